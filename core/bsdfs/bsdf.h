@@ -1,0 +1,65 @@
+#pragma once
+// The BSDF at a hit point, in world space: a material plus the shading frame.
+// One place handles, for every material:
+//  * light leaks: a direction whose side of the shading normal disagrees with
+//    its side of the geometric normal scatters nothing (both modes alike, so
+//    adjoint estimators still agree);
+//  * the adjoint shading-normal correction for importance transport (Veach 1997,
+//    §5.3, Eq. 5.19): f*·|wo·ns||wi·ng| / (|wo·ng||wi·ns|), so integrators keep
+//    multiplying by |wi·ns| in both modes.
+#include "core/bsdfs/material.h"
+#include "core/interaction.h"
+
+namespace lb {
+
+class BSDF {
+ public:
+  BSDF(const SurfaceInteraction& si) : frame_(si.shading), ng_(si.ng), material_(si.material) {}
+
+  const Material& material() const { return *material_; }
+  bool isDelta() const { return material_->isDelta(); }
+  uint32_t flags() const { return material_->flags(); }
+  const Frame& frame() const { return frame_; }
+  const Vec3& shadingNormal() const { return frame_.n; }
+
+  BSDFEval eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {
+    Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
+    if (leaks(woWorld, wo) || leaks(wiWorld, wi)) return {};
+    BSDFEval e = material_->eval(wo, wi, mode);
+    e.f *= adjointCorrection(woWorld, wiWorld, wo, wi, mode);
+    return e;
+  }
+
+  std::optional<BSDFSample> sample(const Vec3& woWorld, float uLobe, Vec2 u, TransportMode mode) const {
+    Vec3 wo = frame_.toLocal(woWorld);
+    if (wo.z == 0 || leaks(woWorld, wo)) return std::nullopt;
+    auto s = material_->sample(wo, uLobe, u, mode);
+    if (!s || s->pdf == 0) return std::nullopt;
+    Vec3 wiWorld = frame_.toWorld(s->wi);
+    if (leaks(wiWorld, s->wi)) return std::nullopt;
+    s->f *= adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
+    s->wi = wiWorld;
+    return s;
+  }
+
+  float pdf(const Vec3& woWorld, const Vec3& wiWorld) const {
+    Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
+    if (leaks(woWorld, wo) || leaks(wiWorld, wi)) return 0;
+    return material_->pdf(wo, wi);
+  }
+
+ private:
+  bool leaks(const Vec3& world, const Vec3& local) const { return glm::dot(world, ng_) * local.z <= 0; }
+  float adjointCorrection(const Vec3& woW, const Vec3& wiW, const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    if (mode == TransportMode::Radiance) return 1.f;
+    float num = std::abs(wo.z) * absDot(wiW, ng_);
+    float den = absDot(woW, ng_) * std::abs(wi.z);
+    return den > 0 ? num / den : 0.f;
+  }
+
+  Frame frame_;
+  Vec3 ng_;
+  const Material* material_;
+};
+
+}  // namespace lb

@@ -1,0 +1,39 @@
+#pragma once
+// Dielectrics: smooth glass (delta reflection + refraction, Fresnel-weighted
+// choice, total internal reflection) and rough GGX glass (Walter et al. 2007,
+// as formulated in pbrt-v4 §9.7). `eta` is the interior IOR over the exterior.
+#include "core/bsdfs/fresnel.h"
+#include "core/bsdfs/material.h"
+#include "core/bsdfs/microfacet.h"
+
+namespace lb {
+
+class SmoothDielectric final : public Material {
+ public:
+  explicit SmoothDielectric(float eta) : eta_(eta) {}
+  BSDFEval eval(const Vec3&, const Vec3&, TransportMode) const override { return {}; }
+  std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2, TransportMode mode) const override;
+  float pdf(const Vec3&, const Vec3&) const override { return 0; }
+  uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
+
+ private:
+  float eta_;
+};
+
+class RoughDielectric final : public Material {
+ public:
+  RoughDielectric(float eta, float alpha) : eta_(eta), ggx_(alpha) {}
+  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
+  std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override;
+  float pdf(const Vec3& wo, const Vec3& wi) const override;
+  uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFGlossy; }
+
+ private:
+  // The generalised half vector of (wo, wi), facing +z; false if degenerate or
+  // either direction meets a back-facing microfacet.
+  bool halfVector(const Vec3& wo, const Vec3& wi, Vec3* wm, float* etap) const;
+  float eta_;
+  GGX ggx_;
+};
+
+}  // namespace lb

@@ -1,0 +1,64 @@
+#pragma once
+// Conventions, fixed once for every BSDF (the renderers we learn from disagree):
+//  * Directions are in the local shading frame (normal = +z) and both point AWAY
+//    from the surface.
+//  * `wo` points to the vertex the path came from (the camera side when tracing
+//    radiance, the light side when tracing importance); `wi` is the direction
+//    being sampled or connected to, i.e. where the path goes next.
+//  * f(wo, wi) excludes the cosine. Integrators multiply by |cos θ_wi| taken
+//    against the shading normal, in both transport modes.
+//  * `pdf` is the solid-angle density of sampling wi given wo; `pdfRev` that of
+//    sampling wo given wi (what bidirectional MIS needs).
+//  * Delta (specular) lobes return f = 0 from eval; sample() returns f as the
+//    value to multiply by |cos θ_wi| / pdf, and pdf as the discrete probability
+//    of the chosen lobe.
+//  * In TransportMode::Importance, refraction does not scale by 1/η² (radiance
+//    does; Veach 1997 §5.2). The shading-normal adjoint correction is applied
+//    by the BSDF wrapper (bsdf.h), never by a material.
+#include <optional>
+#include <string>
+#include "core/frame.h"
+
+namespace lb {
+
+enum class TransportMode { Radiance, Importance };
+
+enum BSDFFlags : uint32_t {
+  BSDFReflection = 1,
+  BSDFTransmission = 2,
+  BSDFDiffuse = 4,
+  BSDFGlossy = 8,
+  BSDFSpecular = 16,
+};
+
+struct BSDFEval {
+  Color f{0.f};
+  float pdf = 0;
+  float pdfRev = 0;
+};
+
+struct BSDFSample {
+  Vec3 wi;
+  Color f{0.f};
+  float pdf = 0;
+  float pdfRev = 0;
+  uint32_t lobe = 0;  // BSDFFlags of the sampled lobe
+  float eta = 1;      // relative IOR crossed (1 for reflection)
+  bool isDelta() const { return lobe & BSDFSpecular; }
+  Color weight() const { return pdf > 0 ? f * absCosTheta(wi) / pdf : Color(0.f); }
+};
+
+class Material {
+ public:
+  virtual ~Material() = default;
+  virtual BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const = 0;
+  // uLobe chooses between lobes (e.g. reflect vs refract); u drives the direction.
+  virtual std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const = 0;
+  virtual float pdf(const Vec3& wo, const Vec3& wi) const = 0;
+  virtual uint32_t flags() const = 0;
+
+  bool isDelta() const { return (flags() & BSDFSpecular) && !(flags() & (BSDFDiffuse | BSDFGlossy)); }
+  bool hasTransmission() const { return flags() & BSDFTransmission; }
+};
+
+}  // namespace lb

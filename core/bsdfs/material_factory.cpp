@@ -1,0 +1,54 @@
+#include "core/bsdfs/material_factory.h"
+#include "core/bsdfs/conductor.h"
+#include "core/bsdfs/dielectric.h"
+#include "core/bsdfs/diffuse.h"
+
+namespace lb {
+
+namespace {
+Color reflectance(Params& p, const std::string& key, Color fallback) {
+  Color c = p.getColor(key, fallback);
+  if (glm::any(glm::lessThan(c, Color(0.f)))) p.fail(key, "must not be negative");
+  // Above 1 the material creates energy; we refuse rather than warn, because a
+  // furnace test or a converged reference would silently be wrong.
+  if (glm::any(glm::greaterThan(c, Color(1.f)))) p.fail(key, "must be at most 1 (energy conservation)");
+  return c;
+}
+float roughness(Params& p) {
+  float r = p.getFloat("roughness", 0.f);
+  if (r < 0) p.fail("roughness", "must not be negative");
+  if (r > 1) p.fail("roughness", "must be at most 1 (GGX alpha)");
+  return r;
+}
+}  // namespace
+
+std::unique_ptr<Material> makeMaterial(Params& p) {
+  std::string type = p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric"});
+  std::unique_ptr<Material> m;
+  if (type == "diffuse") {
+    m = std::make_unique<Diffuse>(reflectance(p, "albedo", Color(0.5f)));
+  } else if (type == "conductor") {
+    ConductorFresnel fresnel;
+    fresnel.tint = reflectance(p, "tint", Color(1.f));
+    if (p.has("eta") || p.has("k")) {
+      fresnel.complexIor = true;
+      fresnel.eta = p.getColor("eta", Color(1.f));
+      fresnel.k = p.getColor("k", Color(0.f));
+      if (glm::any(glm::lessThanEqual(fresnel.eta, Color(0.f)))) p.fail("eta", "must be positive");
+      if (glm::any(glm::lessThan(fresnel.k, Color(0.f)))) p.fail("k", "must not be negative");
+    }
+    float alpha = roughness(p);
+    if (alpha == 0) m = std::make_unique<SmoothConductor>(fresnel);
+    else m = std::make_unique<RoughConductor>(fresnel, alpha);
+  } else {
+    float ior = p.getFloat("ior", 1.5f);
+    if (ior <= 0) p.fail("ior", "must be positive");
+    float alpha = roughness(p);
+    if (alpha == 0) m = std::make_unique<SmoothDielectric>(ior);
+    else m = std::make_unique<RoughDielectric>(ior, alpha);
+  }
+  p.checkUnused();
+  return m;
+}
+
+}  // namespace lb

@@ -1,0 +1,13 @@
+#pragma once
+// Builds a material from its YAML description; rejects non-physical values.
+#include <memory>
+#include "core/bsdfs/material.h"
+#include "core/params.h"
+
+namespace lb {
+
+// Types: diffuse {albedo}, conductor {roughness, tint, eta, k},
+// dielectric {ior, roughness}. roughness is the GGX alpha; 0 means smooth.
+std::unique_ptr<Material> makeMaterial(Params& params);
+
+}  // namespace lb

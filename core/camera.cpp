@@ -1,0 +1,54 @@
+#include "core/camera.h"
+
+namespace lb {
+
+Camera::Camera(Vec3 position, Vec3 lookAt, Vec3 up, float fovYDegrees, int width, int height)
+    : position_(position), width_(width), height_(height) {
+  forward_ = glm::normalize(lookAt - position);
+  right_ = glm::normalize(glm::cross(forward_, up));
+  up_ = glm::cross(right_, forward_);
+  tanHalfY_ = std::tan(glm::radians(fovYDegrees) / 2);
+  tanHalfX_ = tanHalfY_ * float(width) / float(height);
+  planeArea_ = 4 * tanHalfX_ * tanHalfY_;
+}
+
+Ray Camera::generateRay(Vec2 raster) const {
+  float x = (2 * raster.x / width_ - 1) * tanHalfX_;
+  float y = (1 - 2 * raster.y / height_) * tanHalfY_;
+  return {position_, glm::normalize(x * right_ + y * up_ + forward_), Infinity};
+}
+
+std::optional<Vec2> Camera::rasterOf(const Vec3& dir) const {
+  float cos = glm::dot(dir, forward_);
+  if (cos <= 0) return std::nullopt;
+  float x = glm::dot(dir, right_) / cos, y = glm::dot(dir, up_) / cos;
+  Vec2 raster((x / tanHalfX_ + 1) / 2 * width_, (1 - y / tanHalfY_) / 2 * height_);
+  if (raster.x < 0 || raster.x >= width_ || raster.y < 0 || raster.y >= height_) return std::nullopt;
+  return raster;
+}
+
+float Camera::importance(const Vec3& dir) const {
+  if (!rasterOf(dir)) return 0;
+  float cos = glm::dot(dir, forward_);
+  return 1 / (planeArea_ * cos * cos * cos * cos);
+}
+
+void Camera::pdfWe(const Vec3& dir, float* pdfPos, float* pdfDir) const {
+  *pdfPos = 1;  // pinhole: delta position
+  float cos = glm::dot(dir, forward_);
+  *pdfDir = rasterOf(dir) ? 1 / (planeArea_ * cos * cos * cos) : 0.f;
+}
+
+std::optional<CameraConnection> Camera::connect(const Vec3& p) const {
+  Vec3 toCamera = position_ - p;
+  float dist2 = glm::dot(toCamera, toCamera);
+  if (dist2 == 0) return std::nullopt;
+  float dist = std::sqrt(dist2);
+  Vec3 wi = toCamera / dist;
+  auto raster = rasterOf(-wi);
+  if (!raster) return std::nullopt;
+  float cos = glm::dot(-wi, forward_);
+  return CameraConnection{wi, dist, importance(-wi), dist2 / cos, *raster, position_};
+}
+
+}  // namespace lb

@@ -1,0 +1,45 @@
+#pragma once
+// Pinhole perspective camera. The image plane sits at distance 1 from the
+// pinhole; A is its area there. Importance is normalised over the whole image:
+// We(ω) = 1/(A cos⁴θ), the direction pdf of a camera ray 1/(A cos³θ), and the
+// position is a delta at the pinhole (Veach 1997 §10.3; pbrt-v4 §5.4).
+// Raster coordinates run over [0, width) × [0, height), y down.
+#include <optional>
+#include "core/ray.h"
+
+namespace lb {
+
+struct CameraConnection {
+  Vec3 wi;         // unit direction from the scene point to the pinhole
+  float dist;      // distance to the pinhole
+  float We;        // importance along -wi
+  float pdf;       // solid-angle density at the scene point of choosing the pinhole
+  Vec2 raster;
+  Vec3 pinhole;
+};
+
+class Camera {
+ public:
+  Camera() = default;
+  Camera(Vec3 position, Vec3 lookAt, Vec3 up, float fovYDegrees, int width, int height);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const Vec3& position() const { return position_; }
+  const Vec3& forward() const { return forward_; }
+
+  Ray generateRay(Vec2 raster) const;
+  // Raster position of direction `dir` leaving the pinhole, if on the image.
+  std::optional<Vec2> rasterOf(const Vec3& dir) const;
+  float importance(const Vec3& dir) const;  // We(ω), 0 off-image
+  void pdfWe(const Vec3& dir, float* pdfPos, float* pdfDir) const;
+  std::optional<CameraConnection> connect(const Vec3& p) const;
+  float imagePlaneArea() const { return planeArea_; }
+
+ private:
+  Vec3 position_{0.f}, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
+  float tanHalfX_ = 1, tanHalfY_ = 1, planeArea_ = 4;
+  int width_ = 1, height_ = 1;
+};
+
+}  // namespace lb

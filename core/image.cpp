@@ -1,0 +1,118 @@
+#include "core/image.h"
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <png.h>
+#include <unistd.h>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+namespace lb {
+
+std::string temporaryPathFor(const std::string& path) {
+  std::filesystem::path p(path);
+  return (p.parent_path() / ("." + p.filename().string() + ".tmp-" + std::to_string(getpid()))).string();
+}
+
+namespace {
+void commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw std::runtime_error("cannot write " + path + ": " + ec.message());
+  }
+}
+}  // namespace
+
+void writeExr(const std::string& path, const Image& image) {
+  std::string tmp = temporaryPathFor(path);
+  try {
+    Imf::Header header(image.width, image.height);
+    const char* names[3] = {"R", "G", "B"};
+    for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(tmp.c_str(), header);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(const_cast<Color*>(image.pixels.data()));
+    for (int c = 0; c < 3; ++c)
+      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
+    file.setFrameBuffer(fb);
+    file.writePixels(image.height);
+  } catch (const std::exception& e) {
+    std::filesystem::remove(tmp);
+    throw std::runtime_error("cannot write " + path + ": " + e.what());
+  }
+  commit(tmp, path);
+}
+
+Image readExr(const std::string& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    Imath::Box2i dw = file.header().dataWindow();
+    Image image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(image.pixels.data()) -
+                 (size_t(dw.min.x) + size_t(dw.min.y) * image.width) * sizeof(Color);
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c)
+      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return image;
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read " + path + ": " + e.what());
+  }
+}
+
+void writePng(const std::string& path, const Image& image, float exposure) {
+  std::string tmp = temporaryPathFor(path);
+  FILE* fp = std::fopen(tmp.c_str(), "wb");
+  if (!fp) throw std::runtime_error("cannot write " + path);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(fp);
+    std::filesystem::remove(tmp);
+    throw std::runtime_error("cannot write " + path);
+  }
+  png_init_io(png, fp);
+  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  float scale = std::exp2(exposure);
+  std::vector<unsigned char> row(size_t(image.width) * 3);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float v = glm::clamp(image.at(x, y)[c] * scale, 0.f, 1.f);
+        v = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
+        row[size_t(x) * 3 + c] = static_cast<unsigned char>(std::lround(v * 255));
+      }
+    png_write_row(png, row.data());
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  std::fclose(fp);
+  commit(tmp, path);
+}
+
+void writeTextFile(const std::string& path, const std::string& content) {
+  std::string tmp = temporaryPathFor(path);
+  {
+    std::ofstream out(tmp);
+    out << content;
+    if (!out) {
+      std::filesystem::remove(tmp);
+      throw std::runtime_error("cannot write " + path);
+    }
+  }
+  commit(tmp, path);
+}
+
+}  // namespace lb

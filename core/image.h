@@ -1,0 +1,29 @@
+#pragma once
+// A float RGB image and its files: OpenEXR (32-bit float channels, exact round
+// trip) and an sRGB PNG preview. Files are written under a temporary name in
+// the same folder and renamed, so a reader never sees a partial file.
+#include <string>
+#include <vector>
+#include "core/math.h"
+
+namespace lb {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Color> pixels;
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), pixels(size_t(w) * size_t(h), Color(0.f)) {}
+  Color& at(int x, int y) { return pixels[size_t(y) * width + x]; }
+  const Color& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+};
+
+void writeExr(const std::string& path, const Image& image);
+Image readExr(const std::string& path);
+// Tone mapping: multiply by 2^exposure, clamp, sRGB transfer curve.
+void writePng(const std::string& path, const Image& image, float exposure = 0);
+// Writes `content` to `path` through a temporary file and a rename.
+void writeTextFile(const std::string& path, const std::string& content);
+// A temporary name beside `path`, unique to this process.
+std::string temporaryPathFor(const std::string& path);
+
+}  // namespace lb

@@ -1,0 +1,46 @@
+#pragma once
+// Constant environment: radiance Le arriving from every direction. Sampled
+// uniformly over the sphere; emitted rays start on a disc covering the scene's
+// bounding sphere, facing the sampled direction.
+#include "core/frame.h"
+#include "core/lights/light.h"
+#include "core/sampling.h"
+
+namespace lb {
+
+class EnvironmentLight final : public Light {
+ public:
+  explicit EnvironmentLight(Color radiance) : radiance_(radiance) {}
+
+  void preprocess(const Bounds3& b) override { center_ = b.center(), radius_ = std::max(b.radius(), 1e-30f); }
+  std::optional<LightSample> sampleLi(const Vec3& ref, float, Vec2 u) const override {
+    Vec3 wi = sampleUniformSphere(u);
+    return LightSample{radiance_, wi, uniformSpherePdf(), ref + wi * (2 * radius_ + glm::length(ref - center_))};
+  }
+  float pdfLi(const Vec3&, const Vec3&, const Vec3&, const Vec3&) const override { return uniformSpherePdf(); }
+  std::optional<LightEmission> sampleLe(float, Vec2 uPos, Vec2 uDir) const override {
+    Vec3 w = sampleUniformSphere(uDir);  // direction towards the environment
+    Frame frame(-w);
+    Vec2 d = sampleConcentricDisk(uPos);
+    LightEmission e;
+    e.ray = {center_ + w * radius_ + radius_ * (d.x * frame.s + d.y * frame.t), -w, Infinity};
+    e.Le = radiance_;
+    e.pdfPos = 1 / (Pi * radius_ * radius_);
+    e.pdfDir = uniformSpherePdf();
+    return e;
+  }
+  void pdfLe(const Vec3&, const Vec3&, const Vec3&, float* pdfPos, float* pdfDir) const override {
+    *pdfPos = 1 / (Pi * radius_ * radius_), *pdfDir = uniformSpherePdf();
+  }
+  Color power() const override { return radiance_ * 4.f * Pi * Pi * radius_ * radius_; }
+  Color Le(const Vec3&) const override { return radiance_; }
+  bool isDelta() const override { return false; }
+  bool isInfinite() const override { return true; }
+
+ private:
+  Color radiance_;
+  Vec3 center_{0.f};
+  float radius_ = 1;
+};
+
+}  // namespace lb

@@ -1,0 +1,198 @@
+#include "core/params.h"
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+namespace lb {
+
+void warn(const std::string& message) { std::cerr << "warning: " << message << "\n"; }
+
+Params::Params(YAML::Node node, std::string file, std::string context)
+    : node_(std::move(node)), file_(std::move(file)), context_(std::move(context)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap())
+    throw ConfigError(file_, node_.Mark().line + 1, context_, "expected a mapping of key: value");
+}
+
+std::string Params::qualified(const std::string& key) const {
+  return context_.empty() ? key : context_ + "." + key;
+}
+
+int Params::line(const std::string& key) const {
+  if (node_ && node_.IsMap())
+    for (auto it = node_.begin(); it != node_.end(); ++it)
+      if (it->first.as<std::string>() == key) return it->first.Mark().line + 1;
+  return line();
+}
+
+void Params::fail(const std::string& key, const std::string& message) const {
+  if (overridden_.count(key)) throw ConfigError("command line", 0, "--set " + key, message);
+  throw ConfigError(file_, line(key), qualified(key), message);
+}
+
+YAML::Node Params::lookup(const std::string& key) {
+  asked_.insert(key);
+  if (!node_ || !node_.IsMap()) return YAML::Node();
+  for (auto it = node_.begin(); it != node_.end(); ++it)
+    if (it->first.as<std::string>() == key) return it->second;
+  return YAML::Node();
+}
+
+bool Params::has(const std::string& key) {
+  YAML::Node n = lookup(key);
+  return n && !n.IsNull();
+}
+
+float Params::toFloat(const YAML::Node& n, const std::string& key) const {
+  float v = 0;
+  try {
+    if (!n.IsScalar()) fail(key, "expected a number");
+    v = n.as<float>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected a number, got '" + n.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) fail(key, "must be a finite number, got '" + n.Scalar() + "'");
+  return v;
+}
+
+Vec3 Params::toVec3(const YAML::Node& n, const std::string& key, bool allowScalar) const {
+  if (allowScalar && n.IsScalar()) return Vec3(toFloat(n, key));
+  if (!n.IsSequence() || n.size() != 3)
+    fail(key, allowScalar ? "expected a number or a list of 3 numbers" : "expected a list of 3 numbers");
+  return {toFloat(n[0], key), toFloat(n[1], key), toFloat(n[2], key)};
+}
+
+float Params::getFloat(const std::string& key, float fallback) {
+  YAML::Node n = lookup(key);
+  return record(key, n && !n.IsNull() ? toFloat(n, key) : fallback);
+}
+float Params::requireFloat(const std::string& key) {
+  if (!has(key)) fail(key, "is required");
+  return getFloat(key, 0);
+}
+
+int Params::getInt(const std::string& key, int fallback) {
+  YAML::Node n = lookup(key);
+  if (!n || n.IsNull()) return record(key, fallback);
+  try {
+    if (n.IsScalar()) return record(key, n.as<int>());
+  } catch (const YAML::Exception&) {
+  }
+  fail(key, "expected an integer, got '" + (n.IsScalar() ? n.Scalar() : std::string("a non-scalar")) + "'");
+}
+
+bool Params::getBool(const std::string& key, bool fallback) {
+  YAML::Node n = lookup(key);
+  if (!n || n.IsNull()) return record(key, fallback);
+  try {
+    if (n.IsScalar()) return record(key, n.as<bool>());
+  } catch (const YAML::Exception&) {
+  }
+  fail(key, "expected true or false");
+}
+
+std::string Params::getString(const std::string& key, const std::string& fallback) {
+  YAML::Node n = lookup(key);
+  if (!n || n.IsNull()) return record(key, fallback);
+  if (!n.IsScalar()) fail(key, "expected a string");
+  return record(key, n.Scalar());
+}
+std::string Params::requireString(const std::string& key) {
+  if (!has(key)) fail(key, "is required");
+  return getString(key, "");
+}
+
+std::string Params::getChoice(const std::string& key, const std::string& fallback,
+                              const std::vector<std::string>& choices) {
+  std::string v = getString(key, fallback);
+  for (const auto& c : choices)
+    if (c == v) return v;
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+  std::string hint = closestMatch(v, choices);
+  fail(key, "unknown value '" + v + "' (expected one of: " + list + ")" +
+                (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+}
+
+Vec3 Params::getVec3(const std::string& key, Vec3 fallback) {
+  YAML::Node n = lookup(key);
+  return recordVec3(key, n && !n.IsNull() ? toVec3(n, key, false) : fallback);
+}
+Vec3 Params::requireVec3(const std::string& key) {
+  if (!has(key)) fail(key, "is required");
+  return getVec3(key, {});
+}
+Color Params::getColor(const std::string& key, Color fallback) {
+  YAML::Node n = lookup(key);
+  return recordVec3(key, n && !n.IsNull() ? toVec3(n, key, true) : fallback);
+}
+Color Params::requireColor(const std::string& key) {
+  if (!has(key)) fail(key, "is required");
+  return getColor(key, {});
+}
+
+std::optional<Params> Params::getChild(const std::string& key) {
+  YAML::Node n = lookup(key);
+  if (!n || n.IsNull()) return std::nullopt;
+  if (!n.IsMap()) fail(key, "expected a mapping of key: value");
+  return Params(n, file_, qualified(key));
+}
+
+std::vector<Params> Params::getList(const std::string& key) {
+  YAML::Node n = lookup(key);
+  std::vector<Params> out;
+  if (!n || n.IsNull()) return out;
+  if (!n.IsSequence()) fail(key, "expected a list");
+  for (size_t i = 0; i < n.size(); ++i) {
+    std::string ctx = qualified(key) + "[" + std::to_string(i) + "]";
+    if (!n[i].IsMap()) throw ConfigError(file_, n[i].Mark().line + 1, ctx, "expected a mapping of key: value");
+    out.emplace_back(n[i], file_, ctx);
+  }
+  return out;
+}
+
+void Params::checkUnused() const {
+  if (!node_ || !node_.IsMap()) return;
+  std::vector<std::string> known(asked_.begin(), asked_.end());
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    std::string key = it->first.as<std::string>();
+    if (asked_.count(key)) continue;
+    std::string hint = closestMatch(key, known);
+    fail(key, "unknown key" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"));
+  }
+}
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diag = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+        diag = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  size_t bestDist = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const auto& c : candidates) {
+    size_t d = distance(word, c);
+    if (d < bestDist) bestDist = d, best = c;
+  }
+  return best;
+}
+
+YAML::Node loadYamlFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path, 0, "", "cannot open file");
+  try {
+    return YAML::Load(in);
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+  }
+}
+
+}  // namespace lb

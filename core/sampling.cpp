@@ -1,0 +1,30 @@
+#include "core/sampling.h"
+
+namespace lb {
+
+DiscreteDistribution::DiscreteDistribution(const std::vector<float>& weights) {
+  double sum = 0;
+  for (float w : weights) sum += w;
+  total_ = float(sum);
+  pmf_.resize(weights.size());
+  cdf_.resize(weights.size() + 1);
+  cdf_[0] = 0;
+  double running = 0;
+  for (size_t i = 0; i < weights.size(); ++i) {
+    pmf_[i] = sum > 0 ? float(weights[i] / sum) : 1.f / weights.size();
+    running += sum > 0 ? weights[i] / sum : 1.0 / weights.size();
+    cdf_[i + 1] = float(running);
+  }
+  cdf_.back() = 1.f;
+}
+
+size_t DiscreteDistribution::sample(float u, float* pmf, float* uRemapped) const {
+  size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
+  i = std::min(i, pmf_.size() - 1);
+  while (pmf_[i] == 0 && i + 1 < pmf_.size()) ++i;  // never return a zero-probability entry
+  if (pmf) *pmf = pmf_[i];
+  if (uRemapped) *uRemapped = std::min(OneMinusEpsilon, (u - cdf_[i]) / (cdf_[i + 1] - cdf_[i]));
+  return i;
+}
+
+}  // namespace lb

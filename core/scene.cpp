@@ -1,0 +1,177 @@
+#include "core/scene.h"
+#include <xmmintrin.h>
+#include <pmmintrin.h>
+#include <chrono>
+#include <stdexcept>
+#include "core/lights/area_light.h"
+
+namespace lb {
+
+void enableFlushToZero() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+namespace {
+
+// Exact spheres as Embree user geometry. The quadratic is solved in double
+// precision with the numerically stable form of pbrt-v4 §6.8.4, so tiny spheres
+// far from the origin and huge ones near it intersect alike.
+bool intersectSphere(const Sphere& s, const Vec3d& o, const Vec3d& d, double tNear, double tFar, double* tHit) {
+  Vec3d c(s.center), oc = o - c;
+  double r = s.radius;
+  double a = glm::dot(d, d), b = 2 * glm::dot(d, oc), cc = glm::dot(oc, oc) - r * r;
+  Vec3d v = oc - (b / (2 * a)) * d;
+  double len = glm::length(v);
+  double discrim = 4 * a * (r + len) * (r - len);
+  if (discrim < 0) return false;
+  double root = std::sqrt(discrim);
+  double q = b < 0 ? -0.5 * (b - root) : -0.5 * (b + root);
+  double t0 = q / a, t1 = cc / q;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 > tNear && t0 <= tFar) return *tHit = t0, true;
+  if (t1 > tNear && t1 <= tFar) return *tHit = t1, true;
+  return false;
+}
+
+void sphereBounds(const RTCBoundsFunctionArguments* args) {
+  const Sphere& s = *static_cast<const Sphere*>(args->geometryUserPtr);
+  // Pad by a relative ulp so the float box contains the exact sphere.
+  Vec3 lo = s.center - Vec3(s.radius), hi = s.center + Vec3(s.radius);
+  Vec3 pad = gamma(3) * (glm::abs(s.center) + Vec3(s.radius));
+  args->bounds_o->lower_x = lo.x - pad.x, args->bounds_o->lower_y = lo.y - pad.y, args->bounds_o->lower_z = lo.z - pad.z;
+  args->bounds_o->upper_x = hi.x + pad.x, args->bounds_o->upper_y = hi.y + pad.y, args->bounds_o->upper_z = hi.z + pad.z;
+}
+
+template <bool Occlusion>
+void sphereQuery(const Sphere& s, RTCRayN* rays, RTCHitN* hits, unsigned N, const int* valid, unsigned geomID,
+                 unsigned primID, unsigned instID) {
+  for (unsigned i = 0; i < N; ++i) {
+    if (!valid[i]) continue;
+    Vec3d o(RTCRayN_org_x(rays, N, i), RTCRayN_org_y(rays, N, i), RTCRayN_org_z(rays, N, i));
+    Vec3d d(RTCRayN_dir_x(rays, N, i), RTCRayN_dir_y(rays, N, i), RTCRayN_dir_z(rays, N, i));
+    float& tfar = RTCRayN_tfar(rays, N, i);
+    double t;
+    if (!intersectSphere(s, o, d, RTCRayN_tnear(rays, N, i), tfar, &t)) continue;
+    if (Occlusion) {
+      tfar = -Infinity;
+      continue;
+    }
+    tfar = float(t);
+    Vec3d n = o + t * d - Vec3d(s.center);
+    RTCHitN_Ng_x(hits, N, i) = float(n.x), RTCHitN_Ng_y(hits, N, i) = float(n.y), RTCHitN_Ng_z(hits, N, i) = float(n.z);
+    RTCHitN_u(hits, N, i) = 0, RTCHitN_v(hits, N, i) = 0;
+    RTCHitN_primID(hits, N, i) = primID;
+    RTCHitN_geomID(hits, N, i) = geomID;
+    RTCHitN_instID(hits, N, i, 0) = instID;
+  }
+}
+
+void sphereIntersect(const RTCIntersectFunctionNArguments* args) {
+  sphereQuery<false>(*static_cast<const Sphere*>(args->geometryUserPtr), RTCRayHitN_RayN(args->rayhit, args->N),
+                     RTCRayHitN_HitN(args->rayhit, args->N), args->N, args->valid, args->geomID, args->primID,
+                     args->context->instID[0]);
+}
+
+void sphereOccluded(const RTCOccludedFunctionNArguments* args) {
+  sphereQuery<true>(*static_cast<const Sphere*>(args->geometryUserPtr), args->ray, nullptr, args->N, args->valid,
+                    args->geomID, args->primID, 0);
+}
+
+}  // namespace
+
+Scene::Scene() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("cannot create an Embree device");
+  rtcScene_ = rtcNewScene(device_);
+}
+
+Scene::~Scene() {
+  if (rtcScene_) rtcReleaseScene(rtcScene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void Scene::addShape(Shape shape, Emission emission) {
+  shapes_.push_back(std::move(shape));
+  emissions_.push_back(emission);
+}
+
+void Scene::build(LightSelection selection) {
+  auto start = std::chrono::steady_clock::now();
+  for (size_t id = 0; id < shapes_.size(); ++id) {
+    Shape& shape = shapes_[id];
+    bounds_.extend(shape.bounds());
+    RTCGeometry g;
+    if (shape.isSphere()) {
+      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(g, 1);
+      rtcSetGeometryUserData(g, const_cast<Sphere*>(&shape.sphereData()));
+      rtcSetGeometryBoundsFunction(g, sphereBounds, nullptr);
+      rtcSetGeometryIntersectFunction(g, sphereIntersect);
+      rtcSetGeometryOccludedFunction(g, sphereOccluded);
+    } else {
+      const TriangleMesh& m = shape.triangleMesh();
+      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), m.positions.size()));
+      for (size_t i = 0; i < m.positions.size(); ++i)
+        v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), m.triangles.size()));
+      for (size_t i = 0; i < m.triangles.size(); ++i)
+        idx[3 * i] = m.triangles[i].x, idx[3 * i + 1] = m.triangles[i].y, idx[3 * i + 2] = m.triangles[i].z;
+    }
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(rtcScene_, g, unsigned(id));
+    rtcReleaseGeometry(g);
+
+    if (!isBlack(emissions_[id].radiance)) {
+      shape.lightId = int(lights_.size());
+      lights_.push_back(std::make_unique<AreaLight>(&shape, emissions_[id].radiance, emissions_[id].twoSided));
+    }
+  }
+  rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
+  rtcCommitScene(rtcScene_);
+  if (bounds_.empty()) bounds_.extend(camera.position());
+  infiniteLights_.clear();
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    lights_[i]->index = int(i);
+    lights_[i]->preprocess(bounds_);
+    if (lights_[i]->isInfinite() && !lights_[i]->isDelta()) infiniteLights_.push_back(lights_[i].get());
+  }
+  lightSampler_ = LightSampler(lights_, selection);
+  built_ = true;
+  buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = 0, rh.ray.tfar = ray.tMax, rh.ray.time = 0, rh.ray.mask = ~0u, rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtcScene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  const Shape& shape = shapes_[rh.hit.geomID];
+  shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
+  si.shapeId = int(rh.hit.geomID);
+  si.material = shape.materialId >= 0 ? materials_[size_t(shape.materialId)].get() : nullptr;
+  si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
+  return true;
+}
+
+bool Scene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
+  r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
+  r.tnear = 0, r.tfar = ray.tMax, r.time = 0, r.mask = ~0u, r.flags = 0;
+  rtcOccluded1(rtcScene_, &context, &r);
+  return r.tfar < 0;
+}
+
+}  // namespace lb

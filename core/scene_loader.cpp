@@ -1,0 +1,249 @@
+#include "core/scene_loader.h"
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <map>
+#include "core/bsdfs/material_factory.h"
+#include "core/lights/directional_light.h"
+#include "core/lights/environment_light.h"
+#include "core/lights/point_light.h"
+#include "core/lights/spot_light.h"
+#include "core/mesh_io.h"
+
+namespace lb {
+
+namespace {
+
+struct LoadContext {
+  std::string folder;
+  float worldScale = 1;
+  std::map<std::string, int> materials;
+  int defaultMaterial = -1;
+  size_t degenerateTriangles = 0;
+};
+
+// transform: {scale, rotate_x, rotate_y, rotate_z, translate}, applied in that order.
+Mat4 readTransform(Params& shape, const LoadContext& ctx) {
+  Mat4 m(1.f);
+  if (auto t = shape.getChild("transform")) {
+    Vec3 scale(1.f);
+    if (t->has("scale")) {
+      const YAML::Node n = t->node()["scale"];
+      scale = n.IsScalar() ? Vec3(t->getFloat("scale", 1)) : t->getVec3("scale", Vec3(1.f));
+    }
+    float rx = t->getFloat("rotate_x", 0), ry = t->getFloat("rotate_y", 0), rz = t->getFloat("rotate_z", 0);
+    Vec3 translate = t->getVec3("translate", Vec3(0.f));
+    t->checkUnused();
+    if (scale.x == 0 || scale.y == 0 || scale.z == 0) t->fail("scale", "makes the transform non-invertible");
+    m = glm::translate(Mat4(1.f), translate);
+    m = glm::rotate(m, glm::radians(rz), Vec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(ry), Vec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(rx), Vec3(1, 0, 0));
+    m = glm::scale(m, scale);
+  }
+  return glm::scale(Mat4(1.f), Vec3(ctx.worldScale)) * m;
+}
+
+TriangleMesh rectangleMesh() {
+  TriangleMesh m;
+  m.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  return m;
+}
+
+TriangleMesh boxMesh() {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      Vec3 n(0.f), a(0.f), b(0.f);
+      n[axis] = float(sign);
+      a[(axis + 1) % 3] = 1;
+      b[(axis + 2) % 3] = 1;
+      if (sign < 0) std::swap(a, b);  // keep the winding outward
+      unsigned base = unsigned(m.positions.size());
+      m.positions.push_back(n - a - b);
+      m.positions.push_back(n + a - b);
+      m.positions.push_back(n + a + b);
+      m.positions.push_back(n - a + b);
+      m.triangles.push_back({base, base + 1, base + 2});
+      m.triangles.push_back({base, base + 2, base + 3});
+    }
+  return m;
+}
+
+void readShape(Params& p, Scene& scene, LoadContext& ctx) {
+  std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box"});
+  int material = ctx.defaultMaterial;
+  if (p.has("material")) {
+    std::string name = p.getString("material", "");
+    if (name == "none") material = -1;
+    else {
+      auto it = ctx.materials.find(name);
+      if (it == ctx.materials.end()) {
+        std::vector<std::string> names;
+        for (auto& kv : ctx.materials) names.push_back(kv.first);
+        std::string hint = closestMatch(name, names);
+        p.fail("material", "unknown material '" + name + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+      }
+      material = it->second;
+    }
+  }
+  Emission emission;
+  emission.radiance = p.getColor("emission", Color(0.f));
+  if (glm::any(glm::lessThan(emission.radiance, Color(0.f)))) p.fail("emission", "must not be negative");
+  emission.twoSided = p.getBool("two_sided", false);
+
+  Shape shape;
+  if (type == "sphere") {
+    Sphere s;
+    s.center = p.getVec3("center", Vec3(0.f)) * ctx.worldScale;
+    s.radius = p.getFloat("radius", 1.f) * ctx.worldScale;
+    s.flipNormals = p.getBool("flip_normals", false);
+    if (!(s.radius > 0) || !std::isfinite(s.radius)) p.fail("radius", "must be positive");
+    shape = Shape::sphere(s);
+  } else {
+    Mat4 toWorld = readTransform(p, ctx);
+    if (glm::determinant(toWorld) == 0 || !std::isfinite(glm::determinant(toWorld)))
+      p.fail("transform", "is not invertible");
+    TriangleMesh mesh;
+    size_t dropped = 0;
+    if (type == "mesh") {
+      std::string file = p.requireString("file");
+      bool smooth = p.getBool("smooth_normals", false);
+      std::filesystem::path full = std::filesystem::path(ctx.folder) / file;
+      try {
+        MeshLoadResult r = loadMesh(full.string(), toWorld, smooth);
+        mesh = std::move(r.mesh);
+        dropped = r.degenerateTriangles;
+      } catch (const std::runtime_error& e) {
+        p.fail("file", e.what());
+      }
+    } else {
+      mesh = type == "box" ? boxMesh() : rectangleMesh();
+      dropped = transformMesh(mesh, toWorld);
+    }
+    if (dropped) {
+      warn(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " + std::to_string(dropped) +
+           " degenerate (zero-area) triangle(s)");
+      ctx.degenerateTriangles += dropped;
+    }
+    shape = Shape::mesh(std::move(mesh));
+  }
+  if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");
+  p.checkUnused();
+  shape.materialId = material;
+  scene.addShape(std::move(shape), emission);
+}
+
+Color nonNegative(Params& p, const std::string& key, Color fallback) {
+  Color c = p.getColor(key, fallback);
+  if (glm::any(glm::lessThan(c, Color(0.f)))) p.fail(key, "must not be negative");
+  return c;
+}
+
+void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
+  std::string type = p.getChoice("type", "", {"point", "spot", "directional", "environment"});
+  float s = ctx.worldScale;
+  // Intensities scale with s² so that world_scale leaves the image unchanged.
+  if (type == "point") {
+    Vec3 pos = p.requireVec3("position") * s;
+    scene.addLight(std::make_unique<PointLight>(pos, nonNegative(p, "intensity", Color(1.f)) * s * s));
+  } else if (type == "spot") {
+    Vec3 pos = p.requireVec3("position") * s;
+    Vec3 target = p.requireVec3("look_at") * s;
+    if (target == pos) p.fail("look_at", "must differ from position");
+    float cone = p.getFloat("cone_angle", 30), start = p.getFloat("falloff_start", cone * 0.8f);
+    if (!(cone > 0 && cone < 180)) p.fail("cone_angle", "must be in (0, 180) degrees");
+    if (!(start >= 0 && start <= cone)) p.fail("falloff_start", "must be in [0, cone_angle]");
+    scene.addLight(std::make_unique<SpotLight>(pos, target - pos, nonNegative(p, "intensity", Color(1.f)) * s * s, cone, start));
+  } else if (type == "directional") {
+    Vec3 dir = p.requireVec3("direction");
+    if (glm::length(dir) == 0) p.fail("direction", "must not be zero");
+    scene.addLight(std::make_unique<DirectionalLight>(dir, nonNegative(p, "irradiance", Color(1.f))));
+  } else {
+    scene.addLight(std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
+  }
+  p.checkUnused();
+}
+
+void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
+  int width = 256, height = 256;
+  if (auto film = root.getChild("film")) {
+    width = film->getInt("width", width);
+    height = film->getInt("height", height);
+    if (width <= 0) film->fail("width", "must be positive");
+    if (height <= 0) film->fail("height", "must be positive");
+    film->checkUnused();
+  }
+  auto cam = root.getChild("camera");
+  if (!cam) root.fail("camera", "is required");
+  Vec3 pos = cam->requireVec3("position"), target = cam->requireVec3("look_at");
+  Vec3 up = cam->getVec3("up", Vec3(0, 1, 0));
+  float fov = cam->getFloat("fov", 40);
+  cam->checkUnused();
+  if (!(fov > 0 && fov < 180)) cam->fail("fov", "must be in (0, 180) degrees");
+  if (pos == target) cam->fail("look_at", "must differ from position");
+  if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
+  scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
+}
+
+SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
+  SceneFile out;
+  out.path = path;
+  out.scene = std::make_unique<Scene>();
+  Scene& scene = *out.scene;
+  Params p(root, path, "");
+  LoadContext ctx;
+  ctx.folder = std::filesystem::path(path).parent_path().string();
+  ctx.worldScale = p.getFloat("world_scale", 1.f);
+  if (!(ctx.worldScale > 0)) p.fail("world_scale", "must be positive");
+
+  readCamera(p, scene, ctx);
+  if (auto mats = p.getChild("materials")) {
+    for (auto it = mats->node().begin(); it != mats->node().end(); ++it) {
+      std::string name = it->first.as<std::string>();
+      mats->has(name);  // mark as read
+      Params mp(it->second, path, "materials." + name);
+      if (!it->second.IsMap()) mp.fail("", "expected a mapping with a 'type'");
+      ctx.materials[name] = scene.addMaterial(makeMaterial(mp));
+    }
+    mats->checkUnused();
+  }
+  ctx.defaultMaterial = scene.addMaterial([&] {
+    Params none(YAML::Node(YAML::NodeType::Map), path, "default material");
+    return makeMaterial(none);
+  }());
+  for (Params& sp : p.getList("shapes")) readShape(sp, scene, ctx);
+  for (Params& lp : p.getList("lights")) readLight(lp, scene, ctx);
+  std::string selection = p.getChoice("light_selection", "power", {"power", "uniform"});
+  if (auto s = p.getChild("sampler")) {
+    out.sampler.type = s->getChoice("type", "independent", {"independent", "stratified"});
+    out.sampler.strata = s->getInt("strata", 4);
+    if (out.sampler.strata < 1 || out.sampler.strata > 64) s->fail("strata", "must be in [1, 64]");
+    s->checkUnused();
+  }
+  if (p.has("integrator")) {
+    out.integrator = root["integrator"];
+    if (!out.integrator.IsMap()) p.fail("integrator", "expected a mapping with a 'name'");
+  }
+  p.checkUnused();
+  out.degenerateTriangles = ctx.degenerateTriangles;
+  scene.build(selection == "power" ? LightSelection::Power : LightSelection::Uniform);
+  return out;
+}
+
+}  // namespace
+
+SceneFile loadScene(const std::string& path) { return loadFromNode(loadYamlFile(path), path); }
+
+SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(virtualPath, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+  }
+  return loadFromNode(root, virtualPath);
+}
+
+}  // namespace lb

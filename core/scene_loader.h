@@ -1,0 +1,24 @@
+#pragma once
+// Reads a scene from YAML (format: README "Scene files"). Every key is checked:
+// unknown keys, wrong types, non-finite numbers and non-physical values are
+// ConfigErrors naming file, line and key.
+#include <memory>
+#include <string>
+#include "core/sampler.h"
+#include "core/scene.h"
+
+namespace lb {
+
+struct SceneFile {
+  std::unique_ptr<Scene> scene;
+  std::string path;
+  YAML::Node integrator;  // the scene's `integrator:` mapping (name + parameters), may be null
+  SamplerSettings sampler;
+  size_t degenerateTriangles = 0;
+};
+
+SceneFile loadScene(const std::string& path);
+// For tests: the same from text; relative mesh paths resolve against `virtualPath`'s folder.
+SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath);
+
+}  // namespace lb

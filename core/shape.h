@@ -1,0 +1,60 @@
+#pragma once
+// Shapes: triangle meshes (rectangles, boxes and mesh files become meshes) and
+// exact spheres. A shape knows its area and samples points uniformly by area;
+// spheres also sample the cone of directions they subtend (solid angle).
+#include <vector>
+#include "core/interaction.h"
+#include "core/sampling.h"
+
+namespace lb {
+
+struct TriangleMesh {
+  std::vector<Vec3> positions;    // world space
+  std::vector<Vec3> normals;      // per vertex, world space; empty if none
+  std::vector<Vec2> uvs;          // per vertex; empty if none
+  std::vector<glm::uvec3> triangles;
+};
+
+struct Sphere {
+  Vec3 center;
+  float radius;
+  bool flipNormals = false;  // normals point inward (for enclosing spheres)
+};
+
+struct ShapeSample {
+  Vec3 p, pError, n;
+  float pdfArea = 0;  // with respect to area
+};
+
+class Shape {
+ public:
+  static Shape mesh(TriangleMesh mesh);
+  static Shape sphere(Sphere s);
+
+  bool isSphere() const { return isSphere_; }
+  const TriangleMesh& triangleMesh() const { return mesh_; }
+  const Sphere& sphereData() const { return sphere_; }
+  float area() const { return area_; }
+  Bounds3 bounds() const;
+
+  ShapeSample sampleArea(float uPick, Vec2 u) const;
+  // Sphere only: solid-angle sampling from `ref` (uniform cone), falling back to
+  // area sampling inside the sphere. Returns pdf per solid angle.
+  ShapeSample sampleSolidAngle(const Vec3& ref, Vec2 u, float* pdfSolidAngle) const;
+  float solidAnglePdf(const Vec3& ref, const Vec3& pOnShape, const Vec3& nOnShape) const;
+
+  // Fills geometric data of a hit on primitive `prim` at barycentrics (u, v).
+  void fillInteraction(const Ray& ray, float t, int prim, float u, float v, SurfaceInteraction& si) const;
+
+  int materialId = -1;
+  int lightId = -1;
+
+ private:
+  bool isSphere_ = false;
+  TriangleMesh mesh_;
+  Sphere sphere_{};
+  DiscreteDistribution triangleAreas_;
+  float area_ = 0;
+};
+
+}  // namespace lb

@@ -1,0 +1,27 @@
+#pragma once
+// Sub-commands of the `lightbench` program. Each returns the process exit code:
+// 0 success, 1 runtime failure, 2 bad input (a ConfigError, with file:line:key).
+#include <string>
+#include <vector>
+
+namespace lb {
+
+struct RenderArgs {
+  std::string scene;
+  std::string integrator;              // empty: the scene's, else "path"
+  std::vector<std::string> overrides;  // key=value for the integrator
+  uint64_t spp = 0;
+  double seconds = 0;
+  uint64_t seed = 0;
+  int threads = 0;                     // 0: all cores
+  std::string output;
+  std::string replayPixel;             // "X,Y"
+  long long replaySample = -1;
+  bool quiet = false;
+};
+
+int runRender(const RenderArgs& args);
+int lightbenchMain(int argc, char** argv);
+std::string versionString();
+
+}  // namespace lb

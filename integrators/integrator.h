@@ -1,0 +1,47 @@
+#pragma once
+// The one interface every integrator implements. The render loop
+// (render_loop.h) calls preprocess() once, then renderPass() for pass 0, 1, 2…;
+// each pass adds one sample per pixel (or, for light tracing, one light path per
+// pixel) and must depend only on (seed, pass), never on thread scheduling.
+#include <atomic>
+#include <optional>
+#include "core/film.h"
+#include "core/sampler.h"
+#include "core/scene.h"
+
+namespace lb {
+
+struct PassStats {
+  std::atomic<uint64_t> rays{0};
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // Work done once before sampling (photon maps, caches). Counted in a budget.
+  virtual void preprocess(const Scene&, const Sampler& /*prototype*/) {}
+  virtual void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
+                          PassStats& stats) = 0;
+  // Re-runs one camera sample (pixel, sample index) for debugging, if the
+  // integrator estimates pixels one at a time.
+  virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {
+    return std::nullopt;
+  }
+};
+
+// Base for integrators that estimate each pixel independently from camera rays
+// (path tracing, photon mapping's gather, irradiance caching).
+class PixelIntegrator : public Integrator {
+ public:
+  void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
+  std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
+
+ protected:
+  // Radiance arriving along `ray`; `rays` counts the rays traced.
+  virtual Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const = 0;
+
+ private:
+  Color samplePixel(const Scene& scene, Sampler& sampler, int x, int y, uint64_t sample, uint64_t& rays) const;
+};
+
+}  // namespace lb

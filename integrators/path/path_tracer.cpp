@@ -1,0 +1,163 @@
+#include "integrators/path/path_tracer.h"
+#include "core/bsdfs/bsdf.h"
+#include "core/sampling.h"
+
+namespace lb {
+
+PathTracerSettings PathTracerSettings::read(Params& p) {
+  PathTracerSettings s;
+  std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"});
+  s.sampling = sampling == "bsdf" ? DirectionSampling::Bsdf
+               : sampling == "cosine" ? DirectionSampling::Cosine
+                                      : DirectionSampling::Uniform;
+  s.nee = p.getBool("nee", true);
+  std::string mis = p.getChoice("mis", "power", {"power", "balance", "none"});
+  s.mis = mis == "power" ? MisHeuristic::Power : mis == "balance" ? MisHeuristic::Balance : MisHeuristic::None;
+  s.maxDepth = p.getInt("max_depth", 32);
+  if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
+  s.russianRoulette = p.getBool("rr", true);
+  s.rrDepth = p.getInt("rr_depth", 3);
+  if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
+  if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
+  p.checkUnused();
+  return s;
+}
+
+float PathTracer::misWeight(float pdfThis, float pdfOther) const {
+  switch (settings_.mis) {
+    case MisHeuristic::Power: return powerHeuristic(pdfThis, pdfOther);
+    case MisHeuristic::Balance: return balanceHeuristic(pdfThis, pdfOther);
+    default: return 1.f;
+  }
+}
+
+namespace {
+
+// Hemisphere strategies for non-delta surfaces. For transmissive materials the
+// side is chosen with probability 1/2, so both hemispheres are covered.
+struct DirectionChoice {
+  Vec3 wi;
+  float pdf;
+};
+
+DirectionChoice sampleHemisphere(DirectionSampling strategy, const BSDF& bsdf, const Vec3& woWorld, float uSide, Vec2 u) {
+  Vec3 local = strategy == DirectionSampling::Cosine ? sampleCosineHemisphere(u) : sampleUniformHemisphere(u);
+  float pdf = strategy == DirectionSampling::Cosine ? cosineHemispherePdf(local.z) : uniformHemispherePdf();
+  bool below = glm::dot(woWorld, bsdf.shadingNormal()) < 0;
+  if (bsdf.material().hasTransmission()) {
+    pdf *= 0.5f;
+    if (uSide < 0.5f) below = !below;
+  }
+  if (below) local.z = -local.z;
+  return {bsdf.frame().toWorld(local), pdf};
+}
+
+float hemispherePdf(DirectionSampling strategy, const BSDF& bsdf, const Vec3& woWorld, const Vec3& wiWorld) {
+  float cosWi = glm::dot(wiWorld, bsdf.shadingNormal());
+  bool sameSide = cosWi * glm::dot(woWorld, bsdf.shadingNormal()) > 0;
+  bool transmissive = bsdf.material().hasTransmission();
+  if (!sameSide && !transmissive) return 0;
+  float pdf = strategy == DirectionSampling::Cosine ? std::abs(cosWi) * InvPi : uniformHemispherePdf();
+  return transmissive ? 0.5f * pdf : pdf;
+}
+
+}  // namespace
+
+Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
+  Color L(0.f), beta(1.f);
+  Ray ray = cameraRay;
+  float etaScale = 1;        // removes radiance's 1/η² scaling from roulette decisions
+  bool prevDelta = true;     // the camera "bounce" is a delta event: emission counts in full
+  float prevPdf = 0;         // solid-angle pdf of the direction that generated `ray`
+  Vec3 prevPoint = ray.o;
+  const LightSampler& lights = scene.lightSampler();
+  int maxDepth = settings_.maxDepth < 0 ? 1 << 30 : settings_.maxDepth;
+
+  for (int segments = 1; segments <= maxDepth; ++segments) {
+    SurfaceInteraction si;
+    ++rays;
+    bool hit = scene.intersect(ray, si);
+
+    // Emission reached by this segment, MIS-weighted against NEE (Veach Eq. 9.13).
+    auto emissionWeight = [&](const Light* light, float pdfLi) {
+      if (prevDelta || !settings_.nee) return 1.f;
+      if (settings_.mis == MisHeuristic::None) return 0.f;
+      return misWeight(prevPdf, lights.pmf(light) * pdfLi);
+    };
+    if (!hit) {
+      for (const Light* env : scene.infiniteLights()) {
+        Color Le = env->Le(ray.d);
+        if (!isBlack(Le)) L += beta * Le * emissionWeight(env, env->pdfLi(prevPoint, ray.d, {}, {}));
+      }
+      break;
+    }
+    if (si.emitter) {
+      Color Le = si.emitter->L(si.ng, si.wo);
+      if (!isBlack(Le)) L += beta * Le * emissionWeight(si.emitter, si.emitter->pdfLi(prevPoint, ray.d, si.p, si.ng));
+    }
+    if (segments == maxDepth || !si.material) break;
+
+    BSDF bsdf(si);
+    bool delta = bsdf.isDelta();
+    bool uniformOrCosine = settings_.sampling != DirectionSampling::Bsdf && !delta;
+
+    // Next-event estimation: one light, one point on it.
+    if (settings_.nee && !delta && !lights.empty()) {
+      float pmf;
+      const Light* light = lights.sample(sampler.get1D(), &pmf);
+      float uPick = sampler.get1D();
+      Vec2 uLight = sampler.get2D();
+      auto ls = light->sampleLi(si.p, uPick, uLight);
+      if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
+        BSDFEval e = bsdf.eval(si.wo, ls->wi, TransportMode::Radiance);
+        Color contribution = e.f * absDot(ls->wi, bsdf.shadingNormal());
+        if (!isBlack(contribution)) {
+          ++rays;
+          if (!scene.occluded(si.spawnRayTo(ls->p, ls->pError, ls->n))) {
+            float lightPdf = pmf * ls->pdf;
+            float scatterPdf = uniformOrCosine ? hemispherePdf(settings_.sampling, bsdf, si.wo, ls->wi) : e.pdf;
+            float w = light->isDelta() ? 1.f : misWeight(lightPdf, scatterPdf);
+            L += beta * contribution * ls->L * (w / lightPdf);
+          }
+        }
+      }
+    }
+
+    // Continue the path.
+    float uLobe = sampler.get1D();
+    Vec2 uDir = sampler.get2D();
+    Vec3 wi;
+    if (uniformOrCosine) {
+      DirectionChoice d = sampleHemisphere(settings_.sampling, bsdf, si.wo, uLobe, uDir);
+      BSDFEval e = bsdf.eval(si.wo, d.wi, TransportMode::Radiance);
+      if (d.pdf == 0 || isBlack(e.f)) break;
+      beta *= e.f * absDot(d.wi, bsdf.shadingNormal()) / d.pdf;
+      wi = d.wi;
+      prevPdf = d.pdf;
+      prevDelta = false;
+    } else {
+      auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Radiance);
+      if (!bs) break;
+      beta *= bs->weight();
+      if (bs->lobe & BSDFTransmission) etaScale *= sqr(bs->eta);
+      wi = bs->wi;
+      prevPdf = bs->pdf;
+      prevDelta = bs->isDelta();
+    }
+    if (isBlack(beta)) break;
+    prevPoint = si.p;
+    ray = si.spawnRay(wi);
+
+    // Russian roulette (pbrt-v4 §13.4): survive with probability min(1, max β·η²).
+    if (settings_.russianRoulette && segments >= settings_.rrDepth) {
+      float survive = std::min(1.f, maxComponent(beta) * etaScale);
+      if (survive < 1) {
+        if (sampler.get1D() >= survive) break;
+        beta /= survive;
+      }
+    }
+  }
+  return L;
+}
+
+}  // namespace lb

@@ -1,0 +1,45 @@
+#pragma once
+// Unidirectional path tracing with the switches of the classic comparisons
+// (Veach 1997 ch. 9; pbrt-v4 §13.4):
+//
+//   sampling   bsdf | cosine | uniform   how non-delta bounces choose directions
+//   nee        true | false              next-event estimation (one light sample per vertex)
+//   mis        power | balance | none    how NEE and emitter hits are combined
+//   max_depth  32                        path length in segments (camera ray = 1); -1: unlimited
+//   rr         true                      Russian roulette on the path throughput
+//   rr_depth   3                         segments before roulette may start
+//
+// With nee on and mis none, emitters hit after a non-delta bounce are ignored
+// (pure NEE); with nee off, only hits count, so delta lights are invisible.
+#include "core/params.h"
+#include "integrators/integrator.h"
+
+namespace lb {
+
+enum class DirectionSampling { Bsdf, Cosine, Uniform };
+enum class MisHeuristic { None, Balance, Power };
+
+struct PathTracerSettings {
+  DirectionSampling sampling = DirectionSampling::Bsdf;
+  bool nee = true;
+  MisHeuristic mis = MisHeuristic::Power;
+  int maxDepth = 32;
+  bool russianRoulette = true;
+  int rrDepth = 3;
+
+  static PathTracerSettings read(Params& p);
+};
+
+class PathTracer final : public PixelIntegrator {
+ public:
+  explicit PathTracer(PathTracerSettings s) : settings_(s) {}
+
+ protected:
+  Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override;
+
+ private:
+  float misWeight(float pdfThis, float pdfOther) const;
+  PathTracerSettings settings_;
+};
+
+}  // namespace lb

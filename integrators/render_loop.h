@@ -1,0 +1,38 @@
+#pragma once
+// Drives an integrator: preprocess once, then passes until the budget is spent.
+// A time budget stops before a pass that is predicted to overshoot it (the
+// prediction is the mean duration of the passes so far), so equal-time
+// comparisons stay honest; preprocessing counts inside the budget.
+#include <functional>
+#include "integrators/integrator.h"
+
+namespace lb {
+
+struct RenderBudget {
+  uint64_t spp = 0;       // 0: no sample limit
+  double seconds = 0;     // 0: no time limit
+};
+
+struct RenderOptions {
+  uint64_t seed = 0;
+  RenderBudget budget;
+  bool progress = false;  // a progress line on stderr
+};
+
+struct RenderReport {
+  uint64_t passes = 0;
+  uint64_t rays = 0;
+  double seconds = 0;            // preprocess + passes
+  double preprocessSeconds = 0;
+  uint64_t nonFinite = 0;
+};
+
+// `afterPass(passesDone, elapsedSeconds)` is called after each pass (snapshots).
+RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, const SamplerSettings& sampler,
+                        const RenderOptions& options,
+                        const std::function<void(uint64_t, double)>& afterPass = {});
+
+// Makes every TBB worker (and the caller) use flush-to-zero, as Embree asks.
+void enableFlushToZeroOnAllThreads();
+
+}  // namespace lb
