@@ -2,6 +2,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace lb {
@@ -25,8 +26,24 @@ size_t transformMesh(TriangleMesh& m, const Mat4& toWorld) {
   return dropped;
 }
 
+// OpenMesh 9.0's PLY reader loops forever on a header that never reaches
+// "end_header"; refuse such files before handing them over.
+void checkPlyHeader(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
+    throw std::runtime_error("cannot read mesh file (not a PLY file): " + path);
+  for (int lines = 0; lines < 10000 && std::getline(in, line); ++lines)
+    if (line.rfind("end_header", 0) == 0) return;
+  throw std::runtime_error("cannot read mesh file (PLY header has no end_header): " + path);
+}
+
 MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoothNormals) {
   if (!std::filesystem::exists(path)) throw std::runtime_error("mesh file not found: " + path);
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (auto& c : ext) c = char(std::tolower(c));
+  if (ext != ".obj" && ext != ".ply") throw std::runtime_error("unsupported mesh format (use .obj or .ply): " + path);
+  if (ext == ".ply") checkPlyHeader(path);
   OMesh om;
   om.request_vertex_normals();
   om.request_vertex_texcoords2D();
@@ -63,7 +80,6 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
     if (idx.size() == 3) m.triangles.emplace_back(idx[0], idx[1], idx[2]);
   }
   result.degenerateTriangles = transformMesh(m, toWorld);
-  if (m.triangles.empty()) throw std::runtime_error("mesh has only degenerate triangles: " + path);
   return result;
 }
 

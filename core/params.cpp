@@ -20,7 +20,12 @@ std::string Params::qualified(const std::string& key) const {
 int Params::line(const std::string& key) const {
   if (node_ && node_.IsMap())
     for (auto it = node_.begin(); it != node_.end(); ++it)
-      if (it->first.as<std::string>() == key) return it->first.Mark().line + 1;
+      if (it->first.as<std::string>() == key) {
+        // Keys of a rebuilt mapping (e.g. integrator parameters merged with
+        // --set) have no position; their values keep the file's.
+        int l = it->first.Mark().line >= 0 ? it->first.Mark().line : it->second.Mark().line;
+        return l >= 0 ? l + 1 : line();
+      }
   return line();
 }
 

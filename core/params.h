@@ -42,7 +42,7 @@ class Params {
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
 
   int line(const std::string& key) const;
-  int line() const { return node_.Mark().line + 1; }
+  int line() const { return node_.Mark().line >= 0 ? node_.Mark().line + 1 : 0; }
   const std::string& file() const { return file_; }
   const std::string& context() const { return context_; }
   const YAML::Node& node() const { return node_; }

@@ -21,9 +21,15 @@ DiscreteDistribution::DiscreteDistribution(const std::vector<float>& weights) {
 size_t DiscreteDistribution::sample(float u, float* pmf, float* uRemapped) const {
   size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
   i = std::min(i, pmf_.size() - 1);
-  while (pmf_[i] == 0 && i + 1 < pmf_.size()) ++i;  // never return a zero-probability entry
+  // Never return a zero-probability entry (rounding can leave u in a gap of
+  // trailing zero weights): step forward, else back to the last positive one.
+  while (pmf_[i] == 0 && i + 1 < pmf_.size()) ++i;
+  while (pmf_[i] == 0 && i > 0) --i;
   if (pmf) *pmf = pmf_[i];
-  if (uRemapped) *uRemapped = std::min(OneMinusEpsilon, (u - cdf_[i]) / (cdf_[i + 1] - cdf_[i]));
+  if (uRemapped) {
+    float width = cdf_[i + 1] - cdf_[i];
+    *uRemapped = width > 0 ? glm::clamp((u - cdf_[i]) / width, 0.f, OneMinusEpsilon) : 0.5f;
+  }
   return i;
 }
 

@@ -127,6 +127,10 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
            " degenerate (zero-area) triangle(s)");
       ctx.degenerateTriangles += dropped;
     }
+    if (mesh.triangles.empty()) {
+      if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
+      p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
+    }
     shape = Shape::mesh(std::move(mesh));
   }
   if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");

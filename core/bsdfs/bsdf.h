@@ -12,6 +12,18 @@
 
 namespace lb {
 
+// A sampled scattering direction in world space. `weight` = f·|cos θ_wi|/pdf is
+// computed in the shading frame, before the direction leaves it.
+struct ScatterSample {
+  Vec3 wi;
+  Color f{0.f};
+  Color weight{0.f};
+  float pdf = 0, pdfRev = 0;
+  uint32_t lobe = 0;
+  float eta = 1;
+  bool isDelta() const { return lobe & BSDFSpecular; }
+};
+
 class BSDF {
  public:
   BSDF(const SurfaceInteraction& si) : frame_(si.shading), ng_(si.ng), material_(si.material) {}
@@ -30,16 +42,15 @@ class BSDF {
     return e;
   }
 
-  std::optional<BSDFSample> sample(const Vec3& woWorld, float uLobe, Vec2 u, TransportMode mode) const {
+  std::optional<ScatterSample> sample(const Vec3& woWorld, float uLobe, Vec2 u, TransportMode mode) const {
     Vec3 wo = frame_.toLocal(woWorld);
     if (wo.z == 0 || leaks(woWorld, wo)) return std::nullopt;
     auto s = material_->sample(wo, uLobe, u, mode);
     if (!s || s->pdf == 0) return std::nullopt;
     Vec3 wiWorld = frame_.toWorld(s->wi);
     if (leaks(wiWorld, s->wi)) return std::nullopt;
-    s->f *= adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
-    s->wi = wiWorld;
-    return s;
+    Color f = s->f * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
+    return ScatterSample{wiWorld, f, f * absCosTheta(s->wi) / s->pdf, s->pdf, s->pdfRev, s->lobe, s->eta};
   }
 
   float pdf(const Vec3& woWorld, const Vec3& wiWorld) const {

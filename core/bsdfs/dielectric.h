@@ -27,6 +27,7 @@ class RoughDielectric final : public Material {
   std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override;
   float pdf(const Vec3& wo, const Vec3& wi) const override;
   uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFGlossy; }
+  float relativeEta(const Vec3& wo) const override { return wo.z > 0 ? eta_ : 1 / eta_; }
 
  private:
   // The generalised half vector of (wo, wi), facing +z; false if degenerate or

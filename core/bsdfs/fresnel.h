@@ -10,9 +10,11 @@ namespace lb {
 inline float fresnelDielectric(float cosThetaI, float eta) {
   cosThetaI = glm::clamp(cosThetaI, -1.f, 1.f);
   if (cosThetaI < 0) eta = 1 / eta, cosThetaI = -cosThetaI;
-  float sin2ThetaT = (1 - cosThetaI * cosThetaI) / (eta * eta);
-  if (sin2ThetaT >= 1) return 1.f;  // total internal reflection
-  float cosThetaT = safeSqrt(1 - sin2ThetaT);
+  // cos²θt = 1 - sin²θi/η² = (η² - 1 + cos²θi)/η², evaluated in that form to
+  // avoid cancelling 1 - cos²θi near grazing angles.
+  float cos2ThetaT = (eta * eta - 1 + cosThetaI * cosThetaI) / (eta * eta);
+  if (cos2ThetaT <= 0) return 1.f;  // total internal reflection
+  float cosThetaT = std::sqrt(cos2ThetaT);
   float rParl = (eta * cosThetaI - cosThetaT) / (eta * cosThetaI + cosThetaT);
   float rPerp = (cosThetaI - eta * cosThetaT) / (cosThetaI + eta * cosThetaT);
   return (rParl * rParl + rPerp * rPerp) / 2;

@@ -57,6 +57,9 @@ class Material {
   virtual float pdf(const Vec3& wo, const Vec3& wi) const = 0;
   virtual uint32_t flags() const = 0;
 
+  // Relative IOR crossed when transmitting from wo's side (1 for opaque materials).
+  virtual float relativeEta(const Vec3& /*wo*/) const { return 1.f; }
+
   bool isDelta() const { return (flags() & BSDFSpecular) && !(flags() & (BSDFDiffuse | BSDFGlossy)); }
   bool hasTransmission() const { return flags() & BSDFTransmission; }
 };

@@ -14,6 +14,10 @@ Color reflectance(Params& p, const std::string& key, Color fallback) {
   if (glm::any(glm::greaterThan(c, Color(1.f)))) p.fail(key, "must be at most 1 (energy conservation)");
   return c;
 }
+// Below this GGX alpha the lobe is narrower than float directions resolve;
+// pbrt-v4 (TrowbridgeReitzDistribution::EffectivelySmooth) makes the same call.
+constexpr float SmoothAlpha = 1e-3f;
+
 float roughness(Params& p) {
   float r = p.getFloat("roughness", 0.f);
   if (r < 0) p.fail("roughness", "must not be negative");
@@ -38,13 +42,15 @@ std::unique_ptr<Material> makeMaterial(Params& p) {
       if (glm::any(glm::lessThan(fresnel.k, Color(0.f)))) p.fail("k", "must not be negative");
     }
     float alpha = roughness(p);
-    if (alpha == 0) m = std::make_unique<SmoothConductor>(fresnel);
+    if (alpha < SmoothAlpha) m = std::make_unique<SmoothConductor>(fresnel);
     else m = std::make_unique<RoughConductor>(fresnel, alpha);
   } else {
     float ior = p.getFloat("ior", 1.5f);
     if (ior <= 0) p.fail("ior", "must be positive");
     float alpha = roughness(p);
-    if (alpha == 0) m = std::make_unique<SmoothDielectric>(ior);
+    // An index-matched interface does not bend light: rough or not, it is a
+    // straight pass-through, which only the smooth model represents.
+    if (alpha < SmoothAlpha || ior == 1.f) m = std::make_unique<SmoothDielectric>(ior);
     else m = std::make_unique<RoughDielectric>(ior, alpha);
   }
   p.checkUnused();

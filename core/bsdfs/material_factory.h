@@ -7,7 +7,8 @@
 namespace lb {
 
 // Types: diffuse {albedo}, conductor {roughness, tint, eta, k},
-// dielectric {ior, roughness}. roughness is the GGX alpha; 0 means smooth.
+// dielectric {ior, roughness}. roughness is the GGX alpha; below 1e-3 the
+// smooth (delta) model is used.
 std::unique_ptr<Material> makeMaterial(Params& params);
 
 }  // namespace lb

@@ -15,14 +15,14 @@ class GGX {
     float cos2 = wm.z * wm.z;
     float cos4 = cos2 * cos2;
     if (cos4 < 1e-16f) return 0;
-    float tan2 = (1 - cos2) / cos2;
+    float tan2 = (wm.x * wm.x + wm.y * wm.y) / cos2;  // not (1 - cos²)/cos²: no cancellation near the pole
     float e = tan2 / (alpha_ * alpha_);
     return 1 / (Pi * alpha_ * alpha_ * cos4 * sqr(1 + e));
   }
   float lambda(const Vec3& w) const {
     float cos2 = w.z * w.z;
     if (cos2 == 0) return Infinity;
-    float tan2 = std::max(0.f, 1 - cos2) / cos2;
+    float tan2 = (w.x * w.x + w.y * w.y) / cos2;
     return (std::sqrt(1 + alpha_ * alpha_ * tan2) - 1) / 2;
   }
   float G1(const Vec3& w) const { return 1 / (1 + lambda(w)); }

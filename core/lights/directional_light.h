@@ -12,7 +12,8 @@ class DirectionalLight final : public Light {
  public:
   DirectionalLight(Vec3 direction, Color irradiance) : frame_(glm::normalize(direction)), irradiance_(irradiance) {}
 
-  void preprocess(const Bounds3& b) override { center_ = b.center(), radius_ = std::max(b.radius(), 1e-30f); }
+  // An empty scene has zero radius; a unit sphere keeps the emission pdfs finite.
+  void preprocess(const Bounds3& b) override { center_ = b.center(), radius_ = b.radius() > 0 ? b.radius() : 1.f; }
   std::optional<LightSample> sampleLi(const Vec3& ref, float, Vec2) const override {
     Vec3 wi = -frame_.n;
     return LightSample{irradiance_, wi, 1.f, ref + wi * (2 * radius_ + glm::length(ref - center_))};

@@ -12,7 +12,8 @@ class EnvironmentLight final : public Light {
  public:
   explicit EnvironmentLight(Color radiance) : radiance_(radiance) {}
 
-  void preprocess(const Bounds3& b) override { center_ = b.center(), radius_ = std::max(b.radius(), 1e-30f); }
+  // An empty scene has zero radius; a unit sphere keeps the emission pdfs finite.
+  void preprocess(const Bounds3& b) override { center_ = b.center(), radius_ = b.radius() > 0 ? b.radius() : 1.f; }
   std::optional<LightSample> sampleLi(const Vec3& ref, float, Vec2 u) const override {
     Vec3 wi = sampleUniformSphere(u);
     return LightSample{radiance_, wi, uniformSpherePdf(), ref + wi * (2 * radius_ + glm::length(ref - center_))};

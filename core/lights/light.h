@@ -21,7 +21,7 @@ struct LightSample {
 
 struct LightEmission {
   Ray ray;
-  Vec3 n{0.f};     // surface normal at the origin (0 for point-like sources)
+  Vec3 n{0.f};     // normal of the emitting side at the origin (0 for point-like sources)
   Vec3 pError{0.f};
   Color Le{0.f};   // emitted radiance (or intensity) along the ray
   float pdfPos = 0, pdfDir = 0;

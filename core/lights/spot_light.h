@@ -11,7 +11,7 @@ class SpotLight final : public Light {
  public:
   SpotLight(Vec3 position, Vec3 direction, Color intensity, float coneDegrees, float falloffStartDegrees)
       : position_(position), frame_(glm::normalize(direction)), intensity_(intensity),
-        cosTotal_(std::cos(glm::radians(coneDegrees))), cosStart_(std::cos(glm::radians(falloffStartDegrees))) {}
+        cosTotal_(std::cos(glm::radians(coneDegrees))), cosStart_(std::max(std::cos(glm::radians(falloffStartDegrees)), cosTotal_)) {}
 
   Color I(const Vec3& w) const {
     float c = glm::dot(w, frame_.n);

@@ -132,13 +132,14 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
       BSDFEval e = bsdf.eval(si.wo, d.wi, TransportMode::Radiance);
       if (d.pdf == 0 || isBlack(e.f)) break;
       beta *= e.f * absDot(d.wi, bsdf.shadingNormal()) / d.pdf;
+      if (glm::dot(d.wi, si.ng) * glm::dot(si.wo, si.ng) < 0) etaScale *= sqr(bsdf.material().relativeEta(bsdf.frame().toLocal(si.wo)));
       wi = d.wi;
       prevPdf = d.pdf;
       prevDelta = false;
     } else {
       auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Radiance);
       if (!bs) break;
-      beta *= bs->weight();
+      beta *= bs->weight;
       if (bs->lobe & BSDFTransmission) etaScale *= sqr(bs->eta);
       wi = bs->wi;
       prevPdf = bs->pdf;

@@ -1,0 +1,111 @@
+// Ray throughput on the Cornell box: Embree's raw rays/s for primary,
+// incoherent and shadow rays (the ceiling), and the path tracer's rays/s in the
+// same run. All use every core through TBB, so the ratio is like for like.
+//   ./build/tests/lightbench_bench
+#include <benchmark/benchmark.h>
+#include <tbb/parallel_for.h>
+#include <atomic>
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "integrators/registry.h"
+#include "integrators/render_loop.h"
+#include "tests/support/render_helpers.h"
+
+namespace lb {
+namespace {
+
+const SceneFile& cornell() {
+  static SceneFile sf = test::loadShippedScene("cornell-box", 256, 256);
+  return sf;
+}
+
+// Surface points and normals seen by primary rays, for incoherent and shadow rays.
+struct SurfacePoints {
+  std::vector<SurfaceInteraction> hits;
+  SurfacePoints() {
+    const Scene& s = *cornell().scene;
+    Pcg32 rng(1, 1);
+    while (hits.size() < 65536) {
+      SurfaceInteraction si;
+      if (s.intersect(s.camera.generateRay(Vec2(rng.next1D() * 256, rng.next1D() * 256)), si)) hits.push_back(si);
+    }
+  }
+};
+const SurfacePoints& points() {
+  static SurfacePoints p;
+  return p;
+}
+
+template <typename Trace>
+void runParallel(benchmark::State& state, Trace trace) {
+  enableFlushToZeroOnAllThreads();
+  const int n = 1 << 18;
+  uint64_t total = 0;
+  for (auto _ : state) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
+      Pcg32 rng(uint64_t(r.begin()), 3);
+      int hits = 0;
+      for (int i = r.begin(); i < r.end(); ++i) hits += trace(i, rng);
+      benchmark::DoNotOptimize(hits);
+    });
+    total += n;
+  }
+  state.counters["rays/s"] = benchmark::Counter(double(total), benchmark::Counter::kIsRate);
+}
+
+void PrimaryRays(benchmark::State& state) {
+  const Scene& s = *cornell().scene;
+  runParallel(state, [&](int i, Pcg32& rng) {
+    SurfaceInteraction si;
+    Vec2 raster(float(i % 256) + rng.next1D(), float((i / 256) % 256) + rng.next1D());
+    return int(s.intersect(s.camera.generateRay(raster), si));
+  });
+}
+
+void IncoherentRays(benchmark::State& state) {
+  const Scene& s = *cornell().scene;
+  const auto& pts = points().hits;
+  runParallel(state, [&](int, Pcg32& rng) {
+    const SurfaceInteraction& p = pts[rng.uniformInt(uint32_t(pts.size()))];
+    Vec3 d = p.shading.toWorld(sampleCosineHemisphere(rng.next2D()));
+    SurfaceInteraction si;
+    return int(s.intersect(p.spawnRay(d), si));
+  });
+}
+
+void ShadowRays(benchmark::State& state) {
+  const Scene& s = *cornell().scene;
+  const auto& pts = points().hits;
+  const Light* light = s.lights()[0].get();
+  runParallel(state, [&](int, Pcg32& rng) {
+    const SurfaceInteraction& p = pts[rng.uniformInt(uint32_t(pts.size()))];
+    auto ls = light->sampleLi(p.p, rng.next1D(), rng.next2D());
+    if (!ls) return 0;
+    return int(s.occluded(p.spawnRayTo(ls->p, ls->pError, ls->n)));
+  });
+}
+
+void PathTracer(benchmark::State& state) {
+  const SceneFile& sf = cornell();
+  Params params(YAML::Load("{}"), "", "integrator");
+  auto integrator = makeIntegrator("path", params);
+  uint64_t rays = 0, pass = 0;
+  for (auto _ : state) {
+    Film film(256, 256);
+    RenderOptions options;
+    options.seed = pass++;
+    options.budget.spp = 4;
+    rays += renderLoop(*sf.scene, *integrator, film, sf.sampler, options).rays;
+  }
+  state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(ShadowRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(PathTracer)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+}  // namespace
+}  // namespace lb
+
+BENCHMARK_MAIN();

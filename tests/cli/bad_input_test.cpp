@@ -1,0 +1,170 @@
+// Every bad input gets one clear message naming file, line and key, exit code
+// 2, and no output file. These run the real `lightbench` binary.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exitCode;
+  std::string err;
+};
+
+class BadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lightbench-bad-input-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  RunResult render(const std::string& scene, const std::string& extra = "") {
+    std::string errFile = (dir_ / "stderr.txt").string();
+    std::string cmd = std::string(LIGHTBENCH_BINARY) + " render " + scene + " --spp 1 -q -o " +
+                      (dir_ / "out" / "image.exr").string() + " " + extra + " 2>" + errFile;
+    fs::create_directories(dir_ / "out");
+    int status = std::system(cmd.c_str());
+    std::stringstream ss;
+    ss << std::ifstream(errFile).rdbuf();
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  }
+  bool noOutput() const { return fs::is_empty(dir_ / "out"); }
+
+  // A valid scene with one line replaced: the tests break it one way at a time.
+  std::string scene(const std::string& shapeLine, const std::string& extraTop = "") {
+    return "camera: {position: [0, 1, 4], look_at: [0, 1, 0]}\n"
+           "film: {width: 8, height: 8}\n"
+           "materials:\n"
+           "  white: {type: diffuse, albedo: 0.7}\n" +
+           extraTop +
+           "shapes:\n"
+           "  - {type: rectangle, material: white, transform: {rotate_x: -90}}\n" +
+           shapeLine + "\n";
+  }
+  void expectError(const RunResult& r, const std::string& fileAndLine, const std::string& key,
+                   const std::string& phrase) {
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find(fileAndLine), std::string::npos) << "missing location '" << fileAndLine << "' in: " << r.err;
+    EXPECT_NE(r.err.find(key), std::string::npos) << "missing key '" << key << "' in: " << r.err;
+    EXPECT_NE(r.err.find(phrase), std::string::npos) << "missing '" << phrase << "' in: " << r.err;
+    EXPECT_TRUE(noOutput());
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(BadInput, ValidSceneRendersAndWritesAllFiles) {
+  std::string f = write("ok.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
+  RunResult r = render(f);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  for (const char* out : {"image.exr", "image.png", "image.config.yaml"}) EXPECT_TRUE(fs::exists(dir_ / "out" / out)) << out;
+}
+
+TEST_F(BadInput, MalformedYaml) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: [1, 2"));
+  expectError(render(f), "s.yaml:", "", "malformed YAML");
+}
+
+TEST_F(BadInput, UnknownKeySuggestsTheClosest) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: 1, materail: white}"));
+  expectError(render(f), "s.yaml:7", "materail", "did you mean 'material'");
+}
+
+TEST_F(BadInput, UnknownTopLevelKey) {
+  std::string f = write("s.yaml", scene("", "lihgts: []\n"));
+  expectError(render(f), "s.yaml:5", "lihgts", "did you mean 'lights'");
+}
+
+TEST_F(BadInput, WrongType) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: big}"));
+  expectError(render(f), "s.yaml:7", "radius", "expected a number");
+}
+
+TEST_F(BadInput, NonFiniteNumber) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: 1, emission: [1, .nan, 1]}"));
+  expectError(render(f), "s.yaml:7", "emission", "finite");
+}
+
+TEST_F(BadInput, MissingMeshFile) {
+  std::string f = write("s.yaml", scene("  - {type: mesh, file: nowhere.obj}"));
+  expectError(render(f), "s.yaml:7", "file", "not found");
+}
+
+TEST_F(BadInput, UnreadableMeshFile) {
+  write("broken.ply", "ply\nformat ascii 1.0\nelement vertex 3\nthis is not a ply file\n");
+  std::string f = write("s.yaml", scene("  - {type: mesh, file: broken.ply}"));
+  expectError(render(f), "s.yaml:7", "file", "broken.ply");
+}
+
+TEST_F(BadInput, NegativeRadius) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: -1}"));
+  expectError(render(f), "s.yaml:7", "radius", "positive");
+}
+
+TEST_F(BadInput, NegativeRoughness) {
+  std::string f = write("s.yaml", scene("", "  metal: {type: conductor, roughness: -0.1}\n"));
+  expectError(render(f), "s.yaml:5", "roughness", "negative");
+}
+
+TEST_F(BadInput, AlbedoAboveOne) {
+  std::string f = write("s.yaml", scene("", "  hot: {type: diffuse, albedo: 1.2}\n"));
+  expectError(render(f), "s.yaml:5", "albedo", "energy");
+}
+
+TEST_F(BadInput, ZeroAreaEmitter) {
+  write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");  // collinear: zero area
+  std::string f = write("s.yaml", scene("  - {type: mesh, file: flat.obj, emission: 5}"));
+  expectError(render(f), "s.yaml:7", "emission", "zero area");
+}
+
+TEST_F(BadInput, TinyTransformIsNotInvertible) {
+  std::string f = write("s.yaml", scene("  - {type: rectangle, emission: 5, transform: {scale: [1e-30, 1e-30, 1]}}"));
+  expectError(render(f), "s.yaml:7", "transform", "not invertible");
+}
+
+TEST_F(BadInput, NonInvertibleTransform) {
+  std::string f = write("s.yaml", scene("  - {type: box, transform: {scale: [1, 0, 1]}}"));
+  expectError(render(f), "s.yaml:7", "scale", "non-invertible");
+}
+
+TEST_F(BadInput, UnknownMaterial) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, material: whte}"));
+  expectError(render(f), "s.yaml:7", "material", "did you mean 'white'");
+}
+
+TEST_F(BadInput, UnknownIntegratorInScene) {
+  std::string f = write("s.yaml", scene("", "") + "integrator: {name: pth}\n");
+  expectError(render(f), "s.yaml:8", "integrator", "did you mean 'path'");
+}
+
+TEST_F(BadInput, UnknownIntegratorOnCommandLine) {
+  std::string f = write("s.yaml", scene(""));
+  expectError(render(f, "--integrator bdtp"), "s.yaml", "integrator", "unknown integrator 'bdtp'");
+}
+
+TEST_F(BadInput, UnknownIntegratorParameter) {
+  std::string f = write("s.yaml", scene("", "") + "integrator: {name: path, max_dpeth: 3}\n");
+  expectError(render(f), "s.yaml:8", "max_dpeth", "did you mean 'max_depth'");
+}
+
+TEST_F(BadInput, BadOverrideOnCommandLine) {
+  std::string f = write("s.yaml", scene(""));
+  expectError(render(f, "--set mis=powr"), "command line", "--set mis", "did you mean 'power'");
+}
+
+TEST_F(BadInput, MissingSceneFile) {
+  expectError(render((dir_ / "absent.yaml").string()), "absent.yaml", "", "cannot open");
+}
+
+}  // namespace

@@ -1,0 +1,182 @@
+#include "tests/support/statistics.h"
+#include <cmath>
+#include <sstream>
+#include "core/frame.h"
+#include "core/rng.h"
+
+namespace lb::test {
+
+double gammaQ(double a, double x) {
+  if (x <= 0) return 1;
+  double gln = std::lgamma(a);
+  if (x < a + 1) {  // series for P, Q = 1 - P
+    double ap = a, sum = 1 / a, del = sum;
+    for (int n = 0; n < 10000; ++n) {
+      ap += 1;
+      del *= x / ap;
+      sum += del;
+      if (std::abs(del) < std::abs(sum) * 1e-15) break;
+    }
+    return 1 - sum * std::exp(-x + a * std::log(x) - gln);
+  }
+  // Continued fraction for Q (modified Lentz).
+  double b = x + 1 - a, c = 1 / 1e-300, d = 1 / b, h = d;
+  for (int i = 1; i < 10000; ++i) {
+    double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < 1e-300) d = 1e-300;
+    c = b + an / c;
+    if (std::abs(c) < 1e-300) c = 1e-300;
+    d = 1 / d;
+    double del = d * c;
+    h *= del;
+    if (std::abs(del - 1) < 1e-15) break;
+  }
+  return std::exp(-x + a * std::log(x) - gln) * h;
+}
+
+double normalCritical(double alpha) {
+  double lo = 0, hi = 40;  // erfc(z/√2) = alpha
+  for (int i = 0; i < 200; ++i) {
+    double mid = 0.5 * (lo + hi);
+    if (std::erfc(mid / std::sqrt(2.0)) > alpha) lo = mid;
+    else hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+Chi2Result chi2Test(const std::vector<double>& observed, const std::vector<double>& expected, double minExpected) {
+  Chi2Result r;
+  double pooledObs = 0, pooledExp = 0;
+  int cells = 0;
+  for (size_t i = 0; i < observed.size(); ++i) {
+    if (expected[i] <= 0 && observed[i] > 0) {
+      std::ostringstream s;
+      s << "cell " << i << " has " << observed[i] << " samples but zero expected count";
+      r.message = s.str();
+      return r;
+    }
+    if (expected[i] < minExpected) {
+      pooledObs += observed[i], pooledExp += expected[i];
+      continue;
+    }
+    r.statistic += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
+    ++cells;
+  }
+  if (pooledExp >= minExpected) {
+    r.statistic += (pooledObs - pooledExp) * (pooledObs - pooledExp) / pooledExp;
+    ++cells;
+  } else if (pooledObs > 0 && pooledExp > 0) {
+    // Too little mass to test on its own: fold it into the statistic's
+    // degrees of freedom conservatively by ignoring it (Nori does the same).
+  }
+  r.dof = cells - 1;
+  if (r.dof <= 0) {
+    r.message = "too few cells with enough expected samples";
+    return r;
+  }
+  r.pValue = gammaQ(r.dof / 2.0, r.statistic / 2.0);
+  return r;
+}
+
+namespace {
+// ∫∫ f over [z0,z1]×[p0,p1] by an adaptive midpoint rule: refine where the 4×4
+// and 8×8 rules disagree (pdf discontinuities at a light's silhouette or a cone
+// edge). Midpoints never touch cell edges, so a discontinuity lying exactly on
+// an edge (a hemisphere's rim) is not smeared into the neighbouring cell.
+template <typename F>
+double midpoint(const F& f, double z0, double z1, double p0, double p1, int n) {
+  double hz = (z1 - z0) / n, hp = (p1 - p0) / n, sum = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) sum += f(z0 + (a + 0.5) * hz, p0 + (b + 0.5) * hp);
+  return sum * hz * hp;
+}
+template <typename F>
+double adaptive(const F& f, double z0, double z1, double p0, double p1, int depth, int minDepth = 1) {
+  if (minDepth <= 0) {
+    double coarse = midpoint(f, z0, z1, p0, p1, 4), fine = midpoint(f, z0, z1, p0, p1, 8);
+    if (depth == 0 || std::abs(fine - coarse) <= 1e-5 * std::abs(fine) + 1e-12 * (z1 - z0) * (p1 - p0)) return fine;
+  }
+  double zm = 0.5 * (z0 + z1), pm = 0.5 * (p0 + p1);
+  return adaptive(f, z0, zm, p0, pm, depth - 1, minDepth - 1) + adaptive(f, zm, z1, p0, pm, depth - 1, minDepth - 1) +
+         adaptive(f, z0, zm, pm, p1, depth - 1, minDepth - 1) + adaptive(f, zm, z1, pm, p1, depth - 1, minDepth - 1);
+}
+}  // namespace
+
+// Cells are uniform in θ ∈ [0, θmax] and φ; θ is computed in double from the
+// direction's components so that narrow caps (distant lights) keep their
+// resolution (z = cosθ would be quantised by float rounding near 1).
+double SphereHistogramTest::thetaMax() const { return std::acos(std::max(-1.0, zMin)); }
+
+int SphereHistogramTest::cellOf(const Vec3& world) const {
+  int cells = thetaCells * phiCells;
+  Vec3 w = frame.toLocal(world);
+  glm::dvec3 d(w);
+  double theta = std::atan2(std::sqrt(d.x * d.x + d.y * d.y), d.z);
+  if (theta > thetaMax()) return cells + 1;
+  int ti = std::min(thetaCells - 1, int(theta / thetaMax() * thetaCells));
+  double phi = std::atan2(d.y, d.x);
+  if (phi < 0) phi += 2 * M_PI;
+  int pi = std::min(phiCells - 1, int(phi / (2 * M_PI) * phiCells));
+  return ti * phiCells + pi;
+}
+
+// ∫ pdf dω over one cell, integrated in (θ, φ) with dω = sinθ dθ dφ: a lobe
+// that is a narrow spike at a pole is resolved in θ, not squeezed into z.
+double SphereHistogramTest::cellIntegral(const PdfFn& pdf, int cell, int depth, int minDepth) const {
+  auto f = [&](double theta, double phi) {
+    double z = std::cos(theta), r = std::sin(theta);
+    glm::dvec3 local(r * std::cos(phi), r * std::sin(phi), z);
+    glm::dvec3 world = glm::dvec3(frame.s) * local.x + glm::dvec3(frame.t) * local.y + glm::dvec3(frame.n) * local.z;
+    return r * pdf(Vec3(world));
+  };
+  int cells = thetaCells * phiCells;
+  if (cell == cells + 1) return zMin > -1 ? adaptive(f, thetaMax(), M_PI, 0, 2 * M_PI, depth + 2, 3) : 0;
+  int ti = cell / phiCells, pi = cell % phiCells;
+  double t0 = thetaMax() * ti / thetaCells, t1 = thetaMax() * (ti + 1) / thetaCells;
+  double p0 = 2 * M_PI * pi / phiCells, p1 = 2 * M_PI * (pi + 1) / phiCells;
+  return adaptive(f, t0, t1, p0, p1, depth, minDepth);
+}
+
+std::vector<double> SphereHistogramTest::expectedCounts(const PdfFn& pdf) const {
+  int cells = thetaCells * phiCells;
+  std::vector<double> expected(size_t(cells) + 2, 0);
+  double total = 0;
+  for (int c = 0; c <= cells + 1; ++c) {
+    if (c == cells) continue;
+    double integral = cellIntegral(pdf, c, 5);
+    expected[size_t(c)] = integral * double(samples);
+    total += integral;
+  }
+  expected[size_t(cells)] = std::max(0.0, 1 - total) * double(samples);  // failed samples
+  return expected;
+}
+
+std::vector<double> SphereHistogramTest::observedCounts(const SampleFn& sample, uint64_t seed) const {
+  int cells = thetaCells * phiCells;
+  std::vector<double> observed(size_t(cells) + 2, 0);
+  Pcg32 rng(seed, 7);
+  for (size_t i = 0; i < samples; ++i) {
+    Vec2 u = rng.next2D();
+    float uLobe = rng.next1D();
+    auto w = sample(u, uLobe);
+    observed[size_t(w ? cellOf(glm::normalize(*w)) : cells)] += 1;
+  }
+  return observed;
+}
+
+Chi2Result SphereHistogramTest::compare(const std::vector<double>& observed, std::vector<double> expected,
+                                        const PdfFn& pdf) const {
+  int cells = thetaCells * phiCells;
+  for (int c = 0; c < cells; ++c)
+    if (observed[size_t(c)] > 0 && expected[size_t(c)] == 0)
+      expected[size_t(c)] = cellIntegral(pdf, c, 8, 6) * double(samples);  // forced 512² sub-grid
+  return chi2Test(observed, expected);
+}
+
+Chi2Result SphereHistogramTest::run(const SampleFn& sample, const PdfFn& pdf, uint64_t seed) const {
+  return compare(observedCounts(sample, seed), expectedCounts(pdf), pdf);
+}
+
+}  // namespace lb::test
