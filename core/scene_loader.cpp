@@ -240,6 +240,22 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
 
 SceneFile loadScene(const std::string& path) { return loadFromNode(loadYamlFile(path), path); }
 
+SceneFile loadScene(const std::string& path, const YAML::Node& overrides) {
+  YAML::Node root = loadYamlFile(path);
+  if (overrides && overrides.IsMap())
+    for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+      std::string key = it->first.as<std::string>();
+      if (it->second.IsMap() && root[key] && root[key].IsMap()) {
+        YAML::Node merged = YAML::Clone(root[key]);
+        for (auto jt = it->second.begin(); jt != it->second.end(); ++jt) merged[jt->first.as<std::string>()] = jt->second;
+        root[key] = merged;
+      } else {
+        root[key] = it->second;
+      }
+    }
+  return loadFromNode(root, path);
+}
+
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath) {
   YAML::Node root;
   try {

@@ -18,6 +18,9 @@ struct SceneFile {
 };
 
 SceneFile loadScene(const std::string& path);
+// The same with top-level keys replaced (e.g. `film: {width: 64, height: 64}`);
+// errors still name the scene file (lines of replaced keys are approximate).
+SceneFile loadScene(const std::string& path, const YAML::Node& overrides);
 // For tests: the same from text; relative mesh paths resolve against `virtualPath`'s folder.
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath);
 

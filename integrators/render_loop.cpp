@@ -27,13 +27,14 @@ void enableFlushToZeroOnAllThreads() {
 }
 
 RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, const SamplerSettings& samplerSettings,
-                        const RenderOptions& options, const std::function<void(uint64_t, double)>& afterPass) {
+                        const RenderOptions& options, const std::function<void(const PassProgress&)>& afterPass) {
   using Clock = std::chrono::steady_clock;
   enableFlushToZeroOnAllThreads();
   auto sampler = makeSampler(samplerSettings, options.seed);
   RenderReport report;
   auto start = Clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  double excluded = 0;  // time spent in afterPass (snapshot metrics): not the integrator's
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count() - excluded; };
   integrator.preprocess(scene, *sampler);
   report.preprocessSeconds = elapsed();
 
@@ -51,7 +52,11 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
     integrator.renderPass(scene, film, *sampler, pass, stats);
     report.passes = pass + 1;
     double t = elapsed();
-    if (afterPass) afterPass(report.passes, t);
+    if (afterPass) {
+      auto before = Clock::now();
+      afterPass({report.passes, t, report.preprocessSeconds});
+      excluded += std::chrono::duration<double>(Clock::now() - before).count();
+    }
     if (options.progress && (t - lastPrint > (tty ? 0.25 : 5.0))) {
       lastPrint = t;
       double fraction = budget.spp > 0 ? double(report.passes) / double(budget.spp) : 0;

@@ -27,10 +27,17 @@ struct RenderReport {
   uint64_t nonFinite = 0;
 };
 
-// `afterPass(passesDone, elapsedSeconds)` is called after each pass (snapshots).
+struct PassProgress {
+  uint64_t passes;
+  double seconds;            // preprocess + passes so far
+  double preprocessSeconds;
+};
+
+// `afterPass` is called after each pass (snapshots); the time it takes is
+// excluded from the clock and the budget.
 RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, const SamplerSettings& sampler,
                         const RenderOptions& options,
-                        const std::function<void(uint64_t, double)>& afterPass = {});
+                        const std::function<void(const PassProgress&)>& afterPass = {});
 
 // Makes every TBB worker (and the caller) use flush-to-zero, as Embree asks.
 void enableFlushToZeroOnAllThreads();

@@ -28,6 +28,15 @@ int lightbenchMain(int argc, char** argv) {
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)");
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
 
+  RunArgs run;
+  CLI::App* runCmd = app.add_subcommand("run", "Run an experiment: every configuration against a reference, error vs time logged, plotted and reported.");
+  runCmd->add_option("experiment", run.experiment, "Experiment file (YAML), e.g. experiments/quickstart.yaml")->required();
+  runCmd->add_flag("--quick", run.quick, "A quarter of the budget and reference samples, one repeat; integrators not built yet are skipped with a warning");
+  runCmd->add_flag("--resume", run.resume, "Continue the latest run of this experiment: finished runs are kept, unfinished ones redone");
+  runCmd->add_option("--jobs", run.jobs, "Runs at once, each with cores/jobs threads (default 1: one run on all cores, the honest setting for timings)")->check(CLI::PositiveNumber);
+  runCmd->add_option("--results", run.results, "Folder for run outputs and cached references (default: results)");
+  runCmd->add_flag("--no-report", run.noReport, "Skip the plots and HTML report");
+
   app.add_subcommand("integrators", "List the available integrators.");
 
   try {
@@ -40,6 +49,7 @@ int lightbenchMain(int argc, char** argv) {
     for (const auto& e : integratorRegistry()) std::cout << e.name << "\t" << e.summary << "\n";
     return 0;
   }
+  if (app.got_subcommand("run")) return runExperimentCommand(run);
   return runRender(r);
 }
 

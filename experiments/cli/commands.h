@@ -21,6 +21,14 @@ struct RenderArgs {
 };
 
 int runRender(const RenderArgs& args);
+
+struct RunArgs {
+  std::string experiment;
+  bool quick = false, resume = false, noReport = false;
+  int jobs = 1;
+  std::string results = "results";
+};
+int runExperimentCommand(const RunArgs& args);
 int lightbenchMain(int argc, char** argv);
 std::string versionString();
 

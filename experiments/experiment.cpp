@@ -1,0 +1,162 @@
+#include "experiments/experiment.h"
+#include <filesystem>
+#include "integrators/registry.h"
+
+namespace lb {
+
+namespace {
+
+bool integratorExists(const std::string& name) {
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) return true;
+  return false;
+}
+
+std::string availableIntegrators() {
+  std::string list;
+  for (const auto& e : integratorRegistry()) list += (list.empty() ? "" : ", ") + e.name;
+  return list;
+}
+
+// The mapping minus the keys this file interprets itself.
+YAML::Node integratorParams(Params& p, const std::string& key) {
+  auto child = p.getChild(key);
+  if (!child) return YAML::Node(YAML::NodeType::Map);
+  return YAML::Clone(child->node());
+}
+
+// Builds the integrator once to check its parameters (unknown keys, ranges).
+void validateIntegrator(const std::string& name, const YAML::Node& params, const std::string& file,
+                        const std::string& context) {
+  Params ip(params, file, context);
+  makeIntegrator(name, ip, file, ip.line());
+}
+
+ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options) {
+  ReferenceSpec r;
+  auto ref = p.getChild("reference");
+  if (!ref) return r;
+  if (ref->has("file")) {
+    r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
+    if (!std::filesystem::exists(r.file)) ref->fail("file", "reference image not found: " + r.file);
+  } else {
+    r.integrator = ref->getString("integrator", "path");
+    if (!integratorExists(r.integrator))
+      ref->fail("integrator", "unknown integrator '" + r.integrator + "' (available: " + availableIntegrators() + ")");
+    r.params = integratorParams(*ref, "params");
+    validateIntegrator(r.integrator, r.params, ref->file(), ref->context() + ".params");
+    int spp = ref->getInt("spp", 1024);
+    if (spp < 1) ref->fail("spp", "must be at least 1");
+    r.spp = options.quick ? std::max(1, spp / 4) : uint64_t(spp);
+    r.seed = uint64_t(ref->getInt("seed", int(r.seed)));
+  }
+  ref->checkUnused();
+  return r;
+}
+
+}  // namespace
+
+Experiment loadExperiment(const std::string& path, const ExperimentOptions& options) {
+  Experiment e;
+  e.file = path;
+  e.source = loadYamlFile(path);
+  Params p(e.source, path, "");
+  std::string folder = std::filesystem::path(path).parent_path().string();
+  e.name = p.getString("name", std::filesystem::path(path).stem().string());
+
+  for (Params& sp : p.getList("scenes")) {
+    ExperimentScene s;
+    s.path = (std::filesystem::path(folder) / sp.requireString("scene")).lexically_normal().string();
+    if (!std::filesystem::exists(s.path)) sp.fail("scene", "scene file not found: " + s.path);
+    s.name = std::filesystem::path(s.path).stem().string();
+    if (sp.has("resolution")) {
+      YAML::Node res = sp.node()["resolution"];
+      if (!res.IsSequence() || res.size() != 2) sp.fail("resolution", "expected [width, height]");
+      int w = 0, h = 0;
+      try {
+        w = res[0].as<int>(), h = res[1].as<int>();
+      } catch (const YAML::Exception&) {
+        sp.fail("resolution", "expected two integers");
+      }
+      if (w <= 0 || h <= 0) sp.fail("resolution", "must be positive");
+      s.overrides["film"]["width"] = w;
+      s.overrides["film"]["height"] = h;
+    }
+    s.reference = readReference(sp, folder, options);
+    if (sp.has("crop")) {
+      YAML::Node c = sp.node()["crop"];
+      if (!c.IsSequence() || c.size() != 4) sp.fail("crop", "expected [x0, y0, x1, y1] in pixels");
+      try {
+        s.crop = {c[0].as<int>(), c[1].as<int>(), c[2].as<int>(), c[3].as<int>()};
+      } catch (const YAML::Exception&) {
+        sp.fail("crop", "expected four integers");
+      }
+      if (s.crop.empty() || s.crop.x0 < 0 || s.crop.y0 < 0) sp.fail("crop", "must be a non-empty region");
+    }
+    sp.checkUnused();
+    e.scenes.push_back(std::move(s));
+  }
+  if (e.scenes.empty()) p.fail("scenes", "at least one scene is required");
+
+  std::vector<Params> configs = p.getList("configurations");
+  if (configs.empty()) p.fail("configurations", "at least one configuration is required");
+  for (Params& cp : configs) {
+    Configuration c;
+    c.integrator = cp.requireString("integrator");
+    c.label = cp.getString("label", c.integrator);
+    c.params = integratorParams(cp, "params");
+    cp.checkUnused();
+    for (const auto& other : e.configurations)
+      if (other.label == c.label) cp.fail("label", "duplicate label '" + c.label + "'");
+    if (!integratorExists(c.integrator)) {
+      std::string msg = "integrator '" + c.integrator + "' is not built (available: " + availableIntegrators() + ")";
+      if (!options.quick) cp.fail("integrator", msg);
+      warn(cp.file() + ":" + std::to_string(cp.line("integrator")) + ": " + msg + "; skipped under --quick");
+      continue;
+    }
+    validateIntegrator(c.integrator, c.params, cp.file(), cp.context() + ".params");
+    e.configurations.push_back(std::move(c));
+  }
+  if (e.configurations.empty()) p.fail("configurations", "no configuration can run");
+
+  auto budget = p.getChild("budget");
+  if (!budget) p.fail("budget", "is required (seconds and/or spp)");
+  e.budget.seconds = budget->getFloat("seconds", 0);
+  e.budget.spp = uint64_t(std::max(0, budget->getInt("spp", 0)));
+  budget->checkUnused();
+  if (e.budget.seconds < 0) budget->fail("seconds", "must not be negative");
+  if (e.budget.seconds == 0 && e.budget.spp == 0) p.fail("budget", "needs seconds and/or spp");
+  if (options.quick) e.budget.seconds /= 4, e.budget.spp = e.budget.spp ? std::max<uint64_t>(1, e.budget.spp / 4) : 0;
+
+  if (auto snaps = p.getChild("snapshots")) {
+    e.snapshots = snaps->getInt("count", 8);
+    if (e.snapshots < 1 || e.snapshots > 1000) snaps->fail("count", "must be in [1, 1000]");
+    e.spacing = snaps->getChoice("spacing", "log", {"log", "linear"}) == "log" ? SnapshotSpacing::Log
+                                                                              : SnapshotSpacing::Linear;
+    snaps->checkUnused();
+  }
+  if (p.has("metrics")) {
+    YAML::Node m = p.node()["metrics"];
+    if (!m.IsSequence()) p.fail("metrics", "expected a list, e.g. [rmse, relmse]");
+    e.metrics.clear();
+    for (const auto& item : m) {
+      std::string name = item.as<std::string>();
+      if (name != "rmse" && name != "relmse" && name != "mape" && name != "variance")
+        p.fail("metrics", "unknown metric '" + name + "' (expected rmse, relmse, mape, variance)");
+      e.metrics.push_back(name);
+    }
+  }
+  e.repeats = p.getInt("repeats", 1);
+  if (e.repeats < 1) p.fail("repeats", "must be at least 1");
+  if (options.quick) e.repeats = 1;
+  e.seed = uint64_t(p.getInt("seed", 1));
+  e.metricSettings.relEpsilon = p.getFloat("relmse_epsilon", 1e-2f);
+  if (!(e.metricSettings.relEpsilon > 0)) p.fail("relmse_epsilon", "must be positive");
+  e.metricSettings.outlierPercentile = p.getFloat("outlier_percentile", 0);
+  if (e.metricSettings.outlierPercentile < 0 || e.metricSettings.outlierPercentile > 100)
+    p.fail("outlier_percentile", "must be in [0, 100]");
+  p.checkUnused();
+  return e;
+}
+
+}  // namespace lb

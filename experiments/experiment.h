@@ -1,0 +1,57 @@
+#pragma once
+// An experiment file (experiments/*.yaml): scenes with references, integrator
+// configurations, a budget, snapshots, metrics and repeats. Parsed with the
+// same file:line:key errors as scenes; integrator names and parameters are
+// checked before anything renders.
+#include <string>
+#include <vector>
+#include "core/params.h"
+#include "experiments/metrics.h"
+#include "integrators/render_loop.h"
+
+namespace lb {
+
+struct ReferenceSpec {
+  std::string file;            // an EXR to use as is, or empty: compute and cache
+  std::string integrator = "path";
+  YAML::Node params{YAML::NodeType::Map};
+  uint64_t spp = 1024;
+  uint64_t seed = 1000003;     // distinct from the runs' seeds
+};
+
+struct ExperimentScene {
+  std::string path;            // resolved against the experiment file's folder
+  std::string name;            // file stem, used in file names and the CSV
+  YAML::Node overrides{YAML::NodeType::Map};  // e.g. film resolution
+  ReferenceSpec reference;
+  Crop crop;
+};
+
+struct Configuration {
+  std::string label, integrator;
+  YAML::Node params{YAML::NodeType::Map};
+};
+
+enum class SnapshotSpacing { Log, Linear };
+
+struct Experiment {
+  std::string name, file;
+  std::vector<ExperimentScene> scenes;
+  std::vector<Configuration> configurations;
+  RenderBudget budget;
+  int snapshots = 8;
+  SnapshotSpacing spacing = SnapshotSpacing::Log;
+  std::vector<std::string> metrics = {"rmse", "relmse", "mape", "variance"};
+  int repeats = 1;
+  uint64_t seed = 1;
+  MetricSettings metricSettings;
+  YAML::Node source;           // the file as read, for meta.json
+};
+
+struct ExperimentOptions {
+  bool quick = false;          // budget ÷ 4, one repeat, reference spp ÷ 4; unbuilt integrators skipped
+};
+
+Experiment loadExperiment(const std::string& path, const ExperimentOptions& options);
+
+}  // namespace lb

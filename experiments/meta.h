@@ -1,0 +1,19 @@
+#pragma once
+// meta.json of a run: what is needed to repeat it — git commit, machine,
+// threads, seeds, the fully resolved configuration, library versions.
+#include <map>
+#include <string>
+#include "experiments/experiment.h"
+
+namespace lb {
+
+struct RunMeta {
+  std::string started;
+  int threadsPerRun = 0, jobs = 1;
+  std::map<std::string, std::string> referenceKeys;
+};
+
+RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs);
+void finishMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir);
+
+}  // namespace lb

@@ -1,0 +1,85 @@
+#include "experiments/reference.h"
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include "core/scene_loader.h"
+#include "integrators/registry.h"
+
+namespace lb {
+
+namespace {
+struct Fnv1a {
+  uint64_t h = 0xcbf29ce484222325ULL;
+  void add(const std::string& bytes) {
+    for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
+    h = (h ^ 0xff) * 0x100000001b3ULL;  // separator, so "ab"+"c" differs from "a"+"bc"
+  }
+};
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+std::string dump(const YAML::Node& n) {
+  YAML::Emitter e;
+  e << n;
+  return e.c_str();
+}
+}  // namespace
+
+std::string referenceKey(const ExperimentScene& s) {
+  Fnv1a f;
+  f.add("lightbench-reference-v1");
+  f.add(readBytes(s.path));
+  YAML::Node root = loadYamlFile(s.path);
+  std::string folder = std::filesystem::path(s.path).parent_path().string();
+  if (root["shapes"] && root["shapes"].IsSequence())
+    for (const auto& shape : root["shapes"])
+      if (shape.IsMap() && shape["file"]) f.add(readBytes((std::filesystem::path(folder) / shape["file"].as<std::string>()).string()));
+  f.add(dump(s.overrides));
+  f.add(s.reference.integrator);
+  f.add(dump(s.reference.params));
+  f.add(std::to_string(s.reference.spp) + "/" + std::to_string(s.reference.seed));
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)f.h);
+  return hex;
+}
+
+Image obtainReference(const ExperimentScene& s, const std::string& resultsRoot) {
+  if (!s.reference.file.empty()) {
+    std::cerr << "reference: " << s.reference.file << " (given)\n";
+    return readExr(s.reference.file);
+  }
+  std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
+  std::filesystem::create_directories(dir);
+  std::string key = referenceKey(s);
+  std::filesystem::path exr = dir / (s.name + "-" + key + ".exr");
+  if (std::filesystem::exists(exr)) {
+    std::cerr << "reference: " << exr.string() << " (cached)\n";
+    return readExr(exr.string());
+  }
+  std::cerr << "reference: rendering " << s.name << " with '" << s.reference.integrator << "' at "
+            << s.reference.spp << " spp (cached for later runs as " << exr.string() << ")\n";
+  SceneFile sf = loadScene(s.path, s.overrides);
+  Params params(s.reference.params, s.path, "reference.params");
+  auto integrator = makeIntegrator(s.reference.integrator, params);
+  Film film(sf.scene->camera.width(), sf.scene->camera.height());
+  RenderOptions options;
+  options.seed = s.reference.seed;
+  options.budget.spp = s.reference.spp;
+  options.progress = true;
+  RenderReport rep = renderLoop(*sf.scene, *integrator, film, sf.sampler, options);
+  Image image = film.image();
+  writeExr(exr.string(), image);
+  std::ostringstream info;
+  info << "scene: " << s.path << "\nintegrator: " << s.reference.integrator << "\nparams: " << dump(s.reference.params)
+       << "\nspp: " << s.reference.spp << "\nseed: " << s.reference.seed << "\nseconds: " << rep.seconds
+       << "\nnon_finite_samples: " << rep.nonFinite << "\nkey: " << key << "\n";
+  writeTextFile((dir / (s.name + "-" + key + ".yaml")).string(), info.str());
+  return image;
+}
+
+}  // namespace lb

@@ -1,0 +1,18 @@
+#pragma once
+// References: an EXR given by the experiment, or one computed once and cached
+// under <results>/references/, keyed by a hash of everything that determines
+// it — the scene file's bytes, the bytes of every mesh it names, the
+// resolution override, the integrator, its parameters, spp and seed — so an
+// edited scene or mesh never reuses a stale reference.
+#include <string>
+#include "core/image.h"
+#include "experiments/experiment.h"
+
+namespace lb {
+
+// FNV-1a over the inputs above, as 16 hex digits.
+std::string referenceKey(const ExperimentScene& scene);
+// Loads or renders (and caches) the reference; reports what it did on stderr.
+Image obtainReference(const ExperimentScene& scene, const std::string& resultsRoot);
+
+}  // namespace lb

@@ -1,0 +1,281 @@
+#!/usr/bin/python3
+"""Plots and an HTML report for one experiment run.
+
+    /usr/bin/python3 experiments/report.py results/NAME/RUN-ID/log.csv
+
+Works on any log.csv (plots only); with the run's meta.json and images beside
+it, it also writes a self-contained report.html (images embedded). Uses
+Debian's python3-matplotlib; run it with /usr/bin/python3.
+
+Per scene it draws
+  * RMSE vs time (log-log): one curve per configuration, the median over
+    repeats with the min-max band, and the least-squares slope of log RMSE on
+    log time in the legend (about -0.5 for an unbiased estimator);
+  * RMSE vs samples per pixel;
+  * efficiency 1 / (MSE x time) at the final snapshot (Veach 1997, section 2.4).
+"""
+import base64
+import csv
+import html
+import json
+import math
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_log(path):
+    rows = []
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            try:
+                for k in ("time_s", "preprocess_s", "rmse", "relmse", "mape", "variance"):
+                    r[k] = float(r[k])
+                r["spp"] = int(r["spp"])
+                r["repeat"] = int(r["repeat"])
+                r["nonfinite"] = int(r["nonfinite"])
+                r["final"] = r["final"] == "1"
+                rows.append(r)
+            except (ValueError, KeyError):
+                continue  # a torn last line of an interrupted run
+    return rows
+
+
+def group(rows):
+    """scene -> label -> repeat -> rows sorted by time."""
+    out = defaultdict(lambda: defaultdict(lambda: defaultdict(list)))
+    for r in rows:
+        out[r["scene"]][r["label"]][r["repeat"]].append(r)
+    for s in out.values():
+        for l in s.values():
+            for rep in l.values():
+                rep.sort(key=lambda r: r["time_s"])
+    return out
+
+
+def slope(points):
+    """Least-squares slope of log y on log x."""
+    pts = [(math.log(x), math.log(y)) for x, y in points if x > 0 and y > 0]
+    if len(pts) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    if sxx == 0:
+        return float("nan")
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+def interpolate_log(xs, ys, x):
+    """Log-log interpolation of a monotone-in-x curve; None outside its range."""
+    if x < xs[0] or x > xs[-1]:
+        return None
+    for i in range(1, len(xs)):
+        if x <= xs[i]:
+            x0, x1, y0, y1 = xs[i - 1], xs[i], ys[i - 1], ys[i]
+            if x1 == x0 or x0 <= 0 or y0 <= 0 or y1 <= 0:
+                return y1
+            t = (math.log(x) - math.log(x0)) / (math.log(x1) - math.log(x0))
+            return math.exp(math.log(y0) + t * (math.log(y1) - math.log(y0)))
+    return ys[-1]
+
+
+def band(repeats, key_x, key_y):
+    """Median, min and max over repeats on a common grid of x."""
+    curves = [([r[key_x] for r in rows], [r[key_y] for r in rows]) for rows in repeats.values() if rows]
+    lo = max(c[0][0] for c in curves)
+    hi = min(c[0][-1] for c in curves)
+    if not (lo > 0 and hi > lo):
+        xs, ys = curves[0]
+        return xs, ys, ys, ys
+    grid = [lo * (hi / lo) ** (i / 39) for i in range(40)]
+    med, mn, mx = [], [], []
+    for x in grid:
+        vals = sorted(v for v in (interpolate_log(c[0], c[1], x) for c in curves) if v is not None)
+        med.append(vals[len(vals) // 2] if len(vals) % 2 else 0.5 * (vals[len(vals) // 2 - 1] + vals[len(vals) // 2]))
+        mn.append(vals[0])
+        mx.append(vals[-1])
+    return grid, med, mn, mx
+
+
+def plot_scene(scene, labels, out_dir):
+    files = {}
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for key_x, xlabel, name in (("time_s", "time (s)", "rmse_vs_time"), ("spp", "samples per pixel", "rmse_vs_spp")):
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        for i, (label, repeats) in enumerate(labels.items()):
+            c = colors[i % len(colors)]
+            xs, med, mn, mx = band(repeats, key_x, "rmse")
+            pts = [(r[key_x], r["rmse"]) for rows in repeats.values() for r in rows]
+            ax.plot(xs, med, color=c, label=f"{label} (slope {slope(pts):+.2f})")
+            if len(repeats) > 1:
+                ax.fill_between(xs, mn, mx, color=c, alpha=0.2, linewidth=0)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("RMSE")
+        ax.set_title(f"{scene}: RMSE vs {xlabel.split(' (')[0]}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        stem = os.path.join(out_dir, f"{name}" if scene is None else f"{scene}__{name}")
+        fig.savefig(stem + ".png", dpi=110)
+        fig.savefig(stem + ".svg")
+        plt.close(fig)
+        files[name] = stem + ".png"
+
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    effs = []
+    for label, repeats in labels.items():
+        finals = [rows[-1] for rows in repeats.values() if rows]
+        vals = [1 / (f["rmse"] ** 2 * f["time_s"]) for f in finals if f["rmse"] > 0 and f["time_s"] > 0]
+        effs.append(sum(vals) / len(vals) if vals else 0)
+    ax.barh(list(labels.keys()), effs, color=colors[: len(effs)])
+    ax.set_xscale("log")
+    ax.set_xlabel("efficiency 1 / (MSE × time)  [higher is better]")
+    ax.set_title(f"{scene}: efficiency at the final snapshot")
+    fig.tight_layout()
+    stem = os.path.join(out_dir, f"{scene}__efficiency")
+    fig.savefig(stem + ".png", dpi=110)
+    fig.savefig(stem + ".svg")
+    plt.close(fig)
+    files["efficiency"] = stem + ".png"
+    return files
+
+
+def summary(labels):
+    """Per label: final metrics (mean over repeats) and time to reach the best final RMSE."""
+    table = {}
+    for label, repeats in labels.items():
+        finals = [rows[-1] for rows in repeats.values() if rows]
+        n = len(finals)
+        mean = lambda k: sum(f[k] for f in finals) / n  # noqa: E731
+        rm = [f["rmse"] for f in finals]
+        sd = math.sqrt(sum((x - mean("rmse")) ** 2 for x in rm) / (n - 1)) if n > 1 else 0.0
+        table[label] = dict(
+            integrator=finals[0]["integrator"], rmse=mean("rmse"), rmse_sd=sd, relmse=mean("relmse"),
+            mape=mean("mape"), variance=mean("variance"), time=mean("time_s"), spp=mean("spp"),
+            preprocess=mean("preprocess_s"), nonfinite=sum(f["nonfinite"] for f in finals), repeats=n,
+            efficiency=sum(1 / (f["rmse"] ** 2 * f["time_s"]) for f in finals if f["rmse"] > 0 and f["time_s"] > 0) / n,
+        )
+    best_label = min(table, key=lambda l: table[l]["rmse"])
+    target = table[best_label]["rmse"]
+    best_eff = max(t["efficiency"] for t in table.values()) or 1
+    for label, repeats in labels.items():
+        xs, med, _, _ = band(repeats, "time_s", "rmse")
+        reach = next((x for x, y in zip(xs, med) if y <= target), None)
+        table[label]["time_to_best"] = reach
+        table[label]["relative_efficiency"] = table[label]["efficiency"] / best_eff
+    return table, best_label
+
+
+def data_uri(path):
+    with open(path, "rb") as f:
+        return "data:image/png;base64," + base64.b64encode(f.read()).decode()
+
+
+def slug(s):
+    return "".join(c.lower() if c.isalnum() else "-" for c in s)
+
+
+def write_report(run_dir, grouped, plots, meta):
+    parts = [
+        "<!doctype html><html><head><meta charset='utf-8'><title>lightbench: "
+        + html.escape(meta.get("experiment", "")) + "</title><style>"
+        "body{font-family:sans-serif;margin:2em;max-width:1400px}table{border-collapse:collapse}"
+        "td,th{border:1px solid #ccc;padding:4px 8px;text-align:right}th{background:#eee}"
+        "td:first-child{text-align:left}.imgs{display:flex;flex-wrap:wrap;gap:12px}"
+        ".imgs figure{margin:0}.imgs img{max-width:320px;image-rendering:pixelated}"
+        "figcaption{font-size:12px;text-align:center}</style></head><body>",
+        f"<h1>{html.escape(meta.get('experiment', ''))}</h1>",
+        "<p>" + html.escape(
+            f"lightbench {meta.get('lightbench', '')} ({meta.get('git_commit', '')}), "
+            f"{meta.get('machine', {}).get('cpu', '')}, {meta.get('threads_per_run', '')} threads per run, "
+            f"{meta.get('jobs', 1)} run(s) at a time; budget {meta.get('budget', {})}; "
+            f"{meta.get('repeats', 1)} repeat(s), seeds {meta.get('seeds', [])}; started {meta.get('started', '')}."
+        ) + "</p>",
+        "<p>RMSE = sqrt(mean (x−r)²); relMSE = mean (x−r)²/(r²+ε) with ε = "
+        + html.escape(str(meta.get("relmse_epsilon", ""))) + "; MAPE = 100·mean |x−r|/(|r|+ε); "
+        "variance = the film's mean per-pixel variance of the mean; efficiency = 1/(MSE·time). "
+        "Times include preprocessing. Error images: log10 of the per-pixel relative squared error, "
+        "1e-4 (dark blue) to 10 (yellow).</p>",
+    ]
+    scenes_meta = {s["name"]: s for s in meta.get("scenes", [])}
+    for scene, labels in grouped.items():
+        table, best = summary(labels)
+        parts.append(f"<h2>{html.escape(scene)}</h2>")
+        ref = scenes_meta.get(scene, {}).get("reference_integrator", "")
+        parts.append(f"<p>Reference: {html.escape(ref)}. Best final RMSE: <b>{html.escape(best)}</b>.</p>")
+        for name in ("rmse_vs_time", "rmse_vs_spp", "efficiency"):
+            if name in plots.get(scene, {}):
+                parts.append(f"<img src='{data_uri(plots[scene][name])}' style='max-width:680px'>")
+        parts.append(
+            "<table><tr><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th><th>relMSE</th>"
+            "<th>MAPE %</th><th>variance</th><th>time s</th><th>preprocess s</th><th>spp</th>"
+            "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/Inf</th></tr>"
+        )
+        for label, t in sorted(table.items(), key=lambda kv: kv[1]["rmse"]):
+            reach = f"{t['time_to_best']:.3g} s" if t["time_to_best"] is not None else "not reached"
+            parts.append(
+                f"<tr><td>{html.escape(label)}</td><td>{html.escape(t['integrator'])}</td>"
+                f"<td>{t['rmse']:.4g} ± {t['rmse_sd']:.2g}</td><td>{t['relmse']:.4g}</td><td>{t['mape']:.3g}</td>"
+                f"<td>{t['variance']:.3g}</td><td>{t['time']:.3g}</td><td>{t['preprocess']:.3g}</td>"
+                f"<td>{t['spp']:.0f}</td><td>{reach}</td><td>{t['relative_efficiency']:.3g}</td>"
+                f"<td>{t['nonfinite']}</td></tr>"
+            )
+        parts.append("</table>")
+        crop = scenes_meta.get(scene, {}).get("crop")
+        for suffix, title in (("", "Full frame"), ("_crop", "Crop (×4)")):
+            if suffix and not crop:
+                continue
+            parts.append(f"<h3>{title}</h3><div class='imgs'>")
+            ref_png = os.path.join(run_dir, f"{scene}__reference{suffix}.png")
+            if os.path.exists(ref_png):
+                parts.append(f"<figure><img src='{data_uri(ref_png)}'><figcaption>reference</figcaption></figure>")
+            for label in table:
+                for kind, cap in (("", label), ("_error", label + " — error")):
+                    png = os.path.join(run_dir, f"{scene}__{slug(label)}{kind}{suffix}.png")
+                    if os.path.exists(png):
+                        parts.append(f"<figure><img src='{data_uri(png)}'><figcaption>{html.escape(cap)}</figcaption></figure>")
+            parts.append("</div>")
+    parts.append("</body></html>")
+    out = os.path.join(run_dir, "report.html")
+    tmp = out + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(parts))
+    os.replace(tmp, out)
+    return out
+
+
+def main(argv):
+    if len(argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    log = argv[1]
+    if os.path.isdir(log):
+        log = os.path.join(log, "log.csv")
+    run_dir = os.path.dirname(os.path.abspath(log))
+    grouped = group(read_log(log))
+    if not grouped:
+        print(f"report: no complete rows in {log}", file=sys.stderr)
+        return 1
+    plots = {scene: plot_scene(scene, labels, run_dir) for scene, labels in grouped.items()}
+    # The first scene's RMSE-vs-time plot also goes under a fixed name.
+    first = next(iter(plots.values()))
+    import shutil
+    shutil.copyfile(first["rmse_vs_time"], os.path.join(run_dir, "rmse_vs_time.png"))
+    meta_path = os.path.join(run_dir, "meta.json")
+    if os.path.exists(meta_path):
+        with open(meta_path) as f:
+            meta = json.load(f)
+        write_report(run_dir, grouped, plots, meta)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

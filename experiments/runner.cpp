@@ -1,0 +1,294 @@
+#include "experiments/runner.h"
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+#include <atomic>
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+#include "core/scene_loader.h"
+#include "experiments/meta.h"
+#include "experiments/reference.h"
+#include "integrators/registry.h"
+
+namespace fs = std::filesystem;
+
+namespace lb {
+
+const char* const LogColumns[] = {"scene", "label", "integrator", "repeat", "seed", "time_s", "preprocess_s", "spp",
+                                  "rmse", "relmse", "mape", "variance", "nonfinite", "rmse_crop", "relmse_crop",
+                                  "mape_crop", "final", nullptr};
+
+namespace {
+
+std::string slug(const std::string& s) {
+  std::string out;
+  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? char(std::tolower(c)) : '-';
+  return out;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+// Splits one CSV line (RFC 4180 quoting); returns false on a torn line.
+bool parseCsvLine(const std::string& line, std::vector<std::string>& out) {
+  out.clear();
+  std::string field;
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') field += '"', ++i;
+      else if (c == '"') quoted = false;
+      else field += c;
+    } else if (c == '"') quoted = true;
+    else if (c == ',') out.push_back(field), field.clear();
+    else field += c;
+  }
+  out.push_back(field);
+  return !quoted;
+}
+
+size_t columnCount() {
+  size_t n = 0;
+  while (LogColumns[n]) ++n;
+  return n;
+}
+
+std::string runKey(const std::string& scene, const std::string& label, const std::string& repeat) {
+  return scene + "\x1f" + label + "\x1f" + repeat;
+}
+
+// log.csv, appended and flushed row by row. On resume, rows of runs that did
+// not finish (no final row) and torn lines are dropped; finished runs stay.
+class LogWriter {
+ public:
+  LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) : path_(path) {
+    std::vector<std::string> kept;
+    if (resume && fs::exists(path)) {
+      std::ifstream in(path);
+      std::string line;
+      std::vector<std::vector<std::string>> rows;
+      std::getline(in, line);  // header
+      std::vector<std::string> f;
+      while (std::getline(in, line))
+        if (parseCsvLine(line, f) && f.size() == columnCount()) rows.push_back(f), kept.push_back(line);
+      for (const auto& r : rows)
+        if (r.back() == "1") completed->insert(runKey(r[0], r[1], r[3]));
+      std::vector<std::string> filtered;
+      for (size_t i = 0; i < rows.size(); ++i)
+        if (completed->count(runKey(rows[i][0], rows[i][1], rows[i][3]))) filtered.push_back(kept[i]);
+      kept = filtered;
+    }
+    std::string header;
+    for (size_t i = 0; LogColumns[i]; ++i) header += (i ? "," : "") + std::string(LogColumns[i]);
+    std::string content = header + "\n";
+    for (const auto& l : kept) content += l + "\n";
+    writeTextFile(path, content);
+    out_.open(path, std::ios::app);
+  }
+  void write(const std::vector<std::string>& fields) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (size_t i = 0; i < fields.size(); ++i) out_ << (i ? "," : "") << csvField(fields[i]);
+    out_ << "\n";
+    out_.flush();
+  }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+  std::mutex mutex_;
+};
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+std::string formatDuration(double s) {
+  char buf[32];
+  if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
+  return buf;
+}
+
+struct RunTask {
+  size_t scene, config;
+  int repeat;
+};
+
+// Snapshot points: log- or linearly spaced in time (time budget) or in passes.
+std::vector<double> snapshotPoints(const Experiment& e) {
+  double total = e.budget.seconds > 0 ? e.budget.seconds : double(e.budget.spp);
+  std::vector<double> points;
+  for (int k = 0; k < e.snapshots; ++k) {
+    double t = e.spacing == SnapshotSpacing::Log ? total * std::pow(2.0, k - (e.snapshots - 1))
+                                                 : total * (k + 1) / e.snapshots;
+    if (e.budget.seconds <= 0) t = std::max(1.0, std::round(t));
+    if (points.empty() || t > points.back()) points.push_back(t);
+  }
+  return points;
+}
+
+fs::path chooseRunDir(const Experiment& e, const RunnerOptions& o) {
+  fs::path base = fs::path(o.resultsRoot) / e.name;
+  if (o.resume && fs::exists(base)) {
+    std::vector<fs::path> runs;
+    for (const auto& d : fs::directory_iterator(base))
+      if (d.is_directory() && fs::exists(d.path() / "log.csv")) runs.push_back(d.path());
+    if (!runs.empty()) return *std::max_element(runs.begin(), runs.end());
+    std::cerr << "resume: no earlier run of '" << e.name << "'; starting a new one\n";
+  }
+  std::time_t now = std::time(nullptr);
+  char id[32];
+  std::strftime(id, sizeof id, "%Y%m%d-%H%M%S", std::gmtime(&now));
+  fs::path dir = base / id;
+  for (int i = 2; fs::exists(dir); ++i) dir = base / (std::string(id) + "-" + std::to_string(i));
+  return dir;
+}
+
+}  // namespace
+
+std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  fs::path runDir = chooseRunDir(e, o);
+  fs::create_directories(runDir);
+  std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
+
+  std::set<std::string> completed;
+  LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
+
+  int cores = tbb::info::default_concurrency();
+  int jobs = std::max(1, std::min(o.jobs, cores));
+  int threadsPerRun = std::max(1, cores / jobs);
+  RunMeta meta = startMeta(e, runDir.string(), threadsPerRun, jobs);
+
+  // References and scenes first (references use every core).
+  std::vector<Image> references;
+  std::vector<SceneFile> scenes;
+  for (const auto& s : e.scenes) {
+    Image ref = obtainReference(s, o.resultsRoot);
+    SceneFile sf = loadScene(s.path, s.overrides);
+    if (ref.width != sf.scene->camera.width() || ref.height != sf.scene->camera.height())
+      throw ConfigError(e.file, 0, "reference", "reference of " + s.name + " is " + std::to_string(ref.width) + "×" +
+                                                    std::to_string(ref.height) + ", the scene renders " +
+                                                    std::to_string(sf.scene->camera.width()) + "×" +
+                                                    std::to_string(sf.scene->camera.height()));
+    writePng((runDir / (s.name + "__reference.png")).string(), ref);
+    if (!s.crop.empty()) writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(ref, s.crop, 4));
+    meta.referenceKeys[s.name] = s.reference.file.empty() ? referenceKey(s) : s.reference.file;
+    references.push_back(std::move(ref));
+    scenes.push_back(std::move(sf));
+  }
+
+  std::vector<RunTask> tasks;
+  for (size_t si = 0; si < e.scenes.size(); ++si)
+    for (size_t ci = 0; ci < e.configurations.size(); ++ci)
+      for (int r = 0; r < e.repeats; ++r)
+        if (!completed.count(runKey(e.scenes[si].name, e.configurations[ci].label, std::to_string(r))))
+          tasks.push_back({si, ci, r});
+  size_t totalRuns = e.scenes.size() * e.configurations.size() * size_t(e.repeats);
+  if (tasks.size() < totalRuns) std::cerr << "resume: " << totalRuns - tasks.size() << " of " << totalRuns << " runs already complete\n";
+
+  std::vector<double> points = snapshotPoints(e);
+  bool timeBudget = e.budget.seconds > 0;
+  std::atomic<size_t> next{0}, done{0};
+  std::mutex progressMutex;
+  auto experimentStart = Clock::now();
+
+  auto runOne = [&](const RunTask& t) {
+    const ExperimentScene& es = e.scenes[t.scene];
+    const Configuration& c = e.configurations[t.config];
+    const Image& ref = references[t.scene];
+    const Scene& scene = *scenes[t.scene].scene;
+    Params params(c.params, e.file, "configurations." + c.label);
+    auto integrator = makeIntegrator(c.integrator, params);
+    Film film(scene.camera.width(), scene.camera.height());
+    uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
+    RenderOptions ro;
+    ro.seed = seed;
+    ro.budget = e.budget;
+    size_t nextPoint = 0;
+    auto record = [&](uint64_t passes, double seconds, double preprocess, bool final) {
+      Image img = film.image();
+      ErrorMetrics m = computeMetrics(img, ref, e.metricSettings);
+      ErrorMetrics mc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(img, ref, e.metricSettings, es.crop);
+      log.write({es.name, c.label, c.integrator, std::to_string(t.repeat), std::to_string(seed), fmt(seconds),
+                 fmt(preprocess), std::to_string(passes), fmt(m.rmse), fmt(m.relMse), fmt(m.mape),
+                 fmt(film.meanVarianceOfMean()), std::to_string(film.nonFiniteCount()),
+                 es.crop.empty() ? "" : fmt(mc.rmse), es.crop.empty() ? "" : fmt(mc.relMse),
+                 es.crop.empty() ? "" : fmt(mc.mape), final ? "1" : "0"});
+      std::lock_guard<std::mutex> lock(progressMutex);
+      double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
+      double perRun = timeBudget ? e.budget.seconds : 0;
+      double eta = perRun > 0 ? perRun * double(tasks.size() - done) / jobs - (final ? 0 : seconds) : 0;
+      std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s  (elapsed %s%s)\n",
+                   done.load() + 1, tasks.size(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1,
+                   final ? points.size() : nextPoint, points.size(), seconds, (unsigned long long)passes, m.rmse,
+                   final ? " final" : "", formatDuration(elapsed).c_str(),
+                   eta > 0 ? (", ETA " + formatDuration(eta)).c_str() : "");
+    };
+    auto afterPass = [&](const PassProgress& p) {
+      double at = timeBudget ? p.seconds : double(p.passes);
+      bool due = false;
+      while (nextPoint + 1 < points.size() && at >= points[nextPoint]) ++nextPoint, due = true;
+      if (due) record(p.passes, p.seconds, p.preprocessSeconds, false);
+    };
+    RenderReport rep = renderLoop(scene, *integrator, film, scenes[t.scene].sampler, ro, afterPass);
+    record(rep.passes, rep.seconds, rep.preprocessSeconds, true);
+    if (t.repeat == 0) {
+      std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
+      Image img = film.image();
+      writeExr(stem + ".exr", img);
+      writePng(stem + ".png", img);
+      Image err = falseColour(relativeErrorImage(img, ref, e.metricSettings.relEpsilon), 1e-4f, 10.f);
+      writePng(stem + "_error.png", err);
+      if (!es.crop.empty()) {
+        writePng(stem + "_crop.png", cropImage(img, es.crop, 4));
+        writePng(stem + "_error_crop.png", cropImage(err, es.crop, 4));
+      }
+    }
+    ++done;
+  };
+
+  auto worker = [&] {
+    tbb::task_arena arena(threadsPerRun);
+    for (size_t i; (i = next++) < tasks.size();) arena.execute([&] { runOne(tasks[i]); });
+  };
+  if (jobs == 1) worker();
+  else {
+    std::vector<std::thread> pool;
+    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
+    for (auto& th : pool) th.join();
+  }
+
+  finishMeta(meta, e, runDir.string());
+  std::cerr << "log: " << (runDir / "log.csv").string() << "\n";
+  if (o.report) {
+    std::string cmd = "/usr/bin/python3 " + std::string(LIGHTBENCH_SOURCE_DIR) + "/experiments/report.py " +
+                      (runDir / "log.csv").string();
+    if (std::system(cmd.c_str()) != 0)
+      std::cerr << "warning: the report script failed (is python3-matplotlib installed? scripts/install-deps.sh "
+                   "installs it); the log is complete: "
+                << (runDir / "log.csv").string() << "\n";
+    else
+      std::cerr << "plot:   " << (runDir / "rmse_vs_time.png").string() << "\nreport: "
+                << (runDir / "report.html").string() << "\n";
+  }
+  return runDir.string();
+}
+
+}  // namespace lb
