@@ -1,0 +1,263 @@
+// The experiment runner end to end on a tiny scene: log columns and
+// monotonicity, images and report, reference caching, kill and resume, and
+// bad experiment files (through the real binary).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+#include "experiments/reference.h"
+#include "experiments/runner.h"
+
+namespace fs = std::filesystem;
+
+namespace lb {
+namespace {
+
+std::string readFile(const fs::path& p) {
+  std::stringstream ss;
+  ss << std::ifstream(p).rdbuf();
+  return ss.str();
+}
+
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+};
+
+CsvTable readCsv(const fs::path& p) {
+  CsvTable t;
+  std::ifstream in(p);
+  std::string line;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::string cur;
+    bool q = false;
+    for (char c : l) {
+      if (c == '"') q = !q;
+      else if (c == ',' && !q) f.push_back(cur), cur.clear();
+      else cur += c;
+    }
+    f.push_back(cur);
+    return f;
+  };
+  std::getline(in, line);
+  t.header = split(line);
+  while (std::getline(in, line)) {
+    auto f = split(line);
+    EXPECT_EQ(f.size(), t.header.size()) << "torn line: " << line;
+    if (f.size() != t.header.size()) continue;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < f.size(); ++i) row[t.header[i]] = f[i];
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+class Runner : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("lightbench-runner-" + std::to_string(getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(std::string(LIGHTBENCH_SOURCE_DIR) + "/scenes/cornell-box.yaml", dir_ / "scene.yaml");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string writeExperiment(const std::string& budget, int repeats = 2, const std::string& extra = "") {
+    std::string text = "scenes:\n"
+                       "  - scene: scene.yaml\n"
+                       "    resolution: [16, 16]\n"
+                       "    reference: {integrator: path, spp: 64}\n"
+                       "    crop: [4, 8, 12, 16]\n"
+                       "configurations:\n"
+                       "  - {label: bsdf, integrator: path, params: {nee: false}}\n"
+                       "  - {label: mis, integrator: path}\n"
+                       "budget: " + budget + "\n"
+                       "snapshots: {count: 4}\n"
+                       "repeats: " + std::to_string(repeats) + "\n" + extra;
+    std::ofstream(dir_ / "exp.yaml") << text;
+    return (dir_ / "exp.yaml").string();
+  }
+  int runBinary(const std::string& args, std::string* err = nullptr) {
+    std::string cmd = std::string(LIGHTBENCH_BINARY) + " run " + args + " 2>" + (dir_ / "stderr.txt").string();
+    int status = std::system(cmd.c_str());
+    if (err) *err = readFile(dir_ / "stderr.txt");
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  fs::path dir_;
+};
+
+TEST_F(Runner, WritesLogImagesPlotsAndReport) {
+  Experiment e = loadExperiment(writeExperiment("{spp: 32}"), {});
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  fs::path run = runExperiment(e, o);
+
+  CsvTable log = readCsv(run / "log.csv");
+  std::vector<std::string> expected;
+  for (size_t i = 0; LogColumns[i]; ++i) expected.push_back(LogColumns[i]);
+  EXPECT_EQ(log.header, expected);
+
+  // Per run: times and spp never decrease, exactly one final row; the error
+  // falls on average (first snapshot vs final, over all runs).
+  std::map<std::string, std::vector<std::map<std::string, std::string>>> runs;
+  for (const auto& r : log.rows) runs[r.at("label") + "/" + r.at("repeat")].push_back(r);
+  EXPECT_EQ(runs.size(), 4u);
+  double firstErr = 0, lastErr = 0;
+  for (const auto& [key, rows] : runs) {
+    ASSERT_GE(rows.size(), 2u) << key;
+    int finals = 0;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      finals += rows[i].at("final") == "1";
+      if (i) {
+        EXPECT_GE(std::stod(rows[i].at("time_s")), std::stod(rows[i - 1].at("time_s"))) << key;
+        EXPECT_GE(std::stoi(rows[i].at("spp")), std::stoi(rows[i - 1].at("spp"))) << key;
+      }
+    }
+    EXPECT_EQ(finals, 1) << key;
+    EXPECT_EQ(rows.back().at("spp"), "32") << key;
+    EXPECT_FALSE(rows.back().at("rmse_crop").empty());
+    firstErr += std::stod(rows.front().at("rmse"));
+    lastErr += std::stod(rows.back().at("rmse"));
+  }
+  EXPECT_LT(lastErr, firstErr);
+
+  for (const char* f : {"meta.json", "rmse_vs_time.png", "scene__rmse_vs_time.svg", "scene__rmse_vs_spp.png",
+                        "scene__efficiency.png", "scene__reference.png", "scene__mis.exr", "scene__mis_error.png",
+                        "scene__bsdf_crop.png", "report.html"})
+    EXPECT_TRUE(fs::exists(run / f)) << f;
+  // The report embeds its images: every <img> is a data URI, and every
+  // configuration appears with its image and error image.
+  std::string report = readFile(run / "report.html");
+  // (A plain scan: std::regex recurses per character and overflows on base64.)
+  int images = 0;
+  const std::string tag = "<img src='";
+  for (size_t at = report.find(tag); at != std::string::npos; at = report.find(tag, at + 1), ++images)
+    EXPECT_EQ(report.compare(at + tag.size(), 22, "data:image/png;base64,"), 0);
+  EXPECT_EQ(images, 3 /* plots */ + 2 * (1 + 2 * 2) /* full and crop: reference + 2 × (image, error) */);
+  for (const char* label : {"<figcaption>bsdf</figcaption>", "<figcaption>mis — error</figcaption>"})
+    EXPECT_NE(report.find(label), std::string::npos) << label;
+  std::string meta = readFile(run / "meta.json");
+  for (const char* key : {"\"git_commit\"", "\"machine\"", "\"seeds\": [1, 7920]", "\"resolved_parameters\"", "\"embree\""})
+    EXPECT_NE(meta.find(key), std::string::npos) << key;
+}
+
+TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
+  std::ofstream(dir_ / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::ofstream(dir_ / "scene.yaml", std::ios::app) << "\n";  // keep the copied scene valid
+  {
+    std::string s = readFile(dir_ / "scene.yaml");
+    s.replace(s.find("shapes:\n"), 8, "shapes:\n  - {type: mesh, file: tri.obj}\n");
+    std::ofstream(dir_ / "scene.yaml") << s;
+  }
+  Experiment e = loadExperiment(writeExperiment("{spp: 4}"), {});
+  std::string k0 = referenceKey(e.scenes[0]);
+  EXPECT_EQ(k0, referenceKey(e.scenes[0]));  // stable
+  std::ofstream(dir_ / "tri.obj", std::ios::app) << "# edited\n";
+  std::string k1 = referenceKey(e.scenes[0]);
+  EXPECT_NE(k1, k0) << "a mesh edit must invalidate the reference";
+  std::ofstream(dir_ / "scene.yaml", std::ios::app) << "# edited\n";
+  std::string k2 = referenceKey(e.scenes[0]);
+  EXPECT_NE(k2, k1) << "a scene edit must invalidate the reference";
+  e.scenes[0].reference.spp += 1;
+  EXPECT_NE(referenceKey(e.scenes[0]), k2) << "other reference settings must too";
+
+  // And the cache is used: a second run finds the file the first one wrote.
+  Experiment small = loadExperiment(writeExperiment("{spp: 2}", 1), {});
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  o.report = false;
+  runExperiment(small, o);
+  fs::path cached = dir_ / "results" / "references" / ("scene-" + referenceKey(small.scenes[0]) + ".exr");
+  EXPECT_TRUE(fs::exists(cached));
+  auto stamp = fs::last_write_time(cached);
+  runExperiment(small, o);
+  EXPECT_EQ(fs::last_write_time(cached), stamp);
+}
+
+TEST_F(Runner, KilledRunKeepsItsLogAndResumeCompletesIt) {
+  std::string exp = writeExperiment("{seconds: 1.0}", 2);
+  fs::path results = dir_ / "results";
+  pid_t pid = fork();
+  if (pid == 0) {
+    std::string out = (dir_ / "first.txt").string();
+    freopen(out.c_str(), "w", stderr);
+    execl(LIGHTBENCH_BINARY, LIGHTBENCH_BINARY, "run", exp.c_str(), "--results", results.c_str(), "--no-report",
+          (char*)nullptr);
+    _exit(127);
+  }
+  // Kill it after its first run finished and before the last one does.
+  fs::path log;
+  for (int i = 0; i < 600; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (log.empty() && fs::exists(results / "exp"))
+      for (const auto& d : fs::directory_iterator(results / "exp")) log = d.path() / "log.csv";
+    if (!log.empty() && fs::exists(log) && readFile(log).find(",1\n") != std::string::npos) break;
+  }
+  kill(pid, SIGKILL);
+  int status;
+  waitpid(pid, &status, 0);
+  ASSERT_FALSE(log.empty());
+  CsvTable partial = readCsv(log);  // readable: every complete line parses
+  int finalsBefore = 0;
+  for (const auto& r : partial.rows) finalsBefore += r.at("final") == "1";
+  ASSERT_GE(finalsBefore, 1);
+  ASSERT_LT(finalsBefore, 4) << "the run finished before it could be killed";
+
+  std::string err;
+  ASSERT_EQ(runBinary(exp + " --resume --no-report --results " + results.string(), &err), 0) << err;
+  EXPECT_NE(err.find("already complete"), std::string::npos) << err;
+  CsvTable full = readCsv(log);
+  std::map<std::string, int> finals;
+  for (const auto& r : full.rows)
+    if (r.at("final") == "1") finals[r.at("label") + "/" + r.at("repeat")] += 1;
+  EXPECT_EQ(finals.size(), 4u);
+  for (const auto& [k, n] : finals) EXPECT_EQ(n, 1) << k;
+}
+
+TEST_F(Runner, BadExperimentFilesAreClearErrors) {
+  struct Case {
+    std::string extra, where, phrase;
+  };
+  std::string err;
+  // Unknown top-level key.
+  writeExperiment("{spp: 2}", 1, "snapshot: {count: 2}\n");
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("exp.yaml:12: 'snapshot': unknown key; did you mean 'snapshots'?"), std::string::npos) << err;
+  // An integrator that is not built: named, fatal; skipped with a warning under --quick.
+  std::string text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("snapshot: {count: 2}\n"), 21, "");
+  text.replace(text.find("  - {label: mis, integrator: path}"), 34, "  - {label: later, integrator: bdpt}");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("exp.yaml:8: 'configurations[1].integrator': integrator 'bdpt' is not built"), std::string::npos) << err;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --quick --no-report --results " + (dir_ / "r").string(), &err), 0) << err;
+  EXPECT_NE(err.find("warning"), std::string::npos);
+  EXPECT_NE(err.find("'bdpt' is not built"), std::string::npos);
+  // Unknown integrator parameter, missing scene, bad budget.
+  writeExperiment("{spp: 2}", 1);
+  text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("params: {nee: false}"), 20, "params: {nea: false}");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("'configurations[0].params.nea': unknown key; did you mean 'nee'?"), std::string::npos) << err;
+  writeExperiment("{}", 1);
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("'budget': needs seconds and/or spp"), std::string::npos) << err;
+  text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("scene: scene.yaml"), 17, "scene: nowhere.yaml");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("exp.yaml:2: 'scenes[0].scene': scene file not found"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace lb
