@@ -5,6 +5,7 @@
 #include <glm/detail/setup.hpp>
 #include <tbb/version.h>
 #include <unistd.h>
+#include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -88,6 +89,10 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
       << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + yamlText(s.reference.params) + " " +
                                                    std::to_string(s.reference.spp) + " spp"
                                              : "file")
+      << ", \"reference_rmse_floor\": "
+      << (m.referenceRmseFloor.count(s.name) && std::isfinite(m.referenceRmseFloor.at(s.name))
+              ? std::to_string(m.referenceRmseFloor.at(s.name))
+              : std::string("null"))
       << ", \"crop\": " << (s.crop.empty() ? std::string("null") : "[" + std::to_string(s.crop.x0) + ", " +
                                                                    std::to_string(s.crop.y0) + ", " +
                                                                    std::to_string(s.crop.x1) + ", " +

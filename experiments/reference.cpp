@@ -48,18 +48,24 @@ std::string referenceKey(const ExperimentScene& s) {
   return hex;
 }
 
-Image obtainReference(const ExperimentScene& s, const std::string& resultsRoot) {
+Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot) {
   if (!s.reference.file.empty()) {
     std::cerr << "reference: " << s.reference.file << " (given)\n";
-    return readExr(s.reference.file);
+    return {readExr(s.reference.file)};
   }
   std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
   std::filesystem::create_directories(dir);
   std::string key = referenceKey(s);
   std::filesystem::path exr = dir / (s.name + "-" + key + ".exr");
+  std::filesystem::path sidecar = dir / (s.name + "-" + key + ".yaml");
   if (std::filesystem::exists(exr)) {
     std::cerr << "reference: " << exr.string() << " (cached)\n";
-    return readExr(exr.string());
+    Reference r{readExr(exr.string())};
+    if (std::filesystem::exists(sidecar)) {
+      YAML::Node info = YAML::LoadFile(sidecar.string());
+      if (info["variance_of_mean"]) r.varianceOfMean = info["variance_of_mean"].as<double>();
+    }
+    return r;
   }
   std::cerr << "reference: rendering " << s.name << " with '" << s.reference.integrator << "' at "
             << s.reference.spp << " spp (cached for later runs as " << exr.string() << ")\n";
@@ -77,9 +83,10 @@ Image obtainReference(const ExperimentScene& s, const std::string& resultsRoot) 
   std::ostringstream info;
   info << "scene: " << s.path << "\nintegrator: " << s.reference.integrator << "\nparams: " << dump(s.reference.params)
        << "\nspp: " << s.reference.spp << "\nseed: " << s.reference.seed << "\nseconds: " << rep.seconds
-       << "\nnon_finite_samples: " << rep.nonFinite << "\nkey: " << key << "\n";
-  writeTextFile((dir / (s.name + "-" + key + ".yaml")).string(), info.str());
-  return image;
+       << "\nnon_finite_samples: " << rep.nonFinite << "\nvariance_of_mean: " << film.meanVarianceOfMean()
+       << "\nkey: " << key << "\n";
+  writeTextFile(sidecar.string(), info.str());
+  return {image, film.meanVarianceOfMean()};
 }
 
 }  // namespace lb

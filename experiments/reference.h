@@ -12,7 +12,15 @@ namespace lb {
 
 // FNV-1a over the inputs above, as 16 hex digits.
 std::string referenceKey(const ExperimentScene& scene);
+
+struct Reference {
+  Image image;
+  // The reference's own noise: mean per-pixel variance of its pixel means
+  // (NaN for a given EXR). Every measured MSE includes it, so sqrt of it is
+  // the RMSE floor below which no configuration can be seen to improve.
+  double varianceOfMean = NAN;
+};
 // Loads or renders (and caches) the reference; reports what it did on stderr.
-Image obtainReference(const ExperimentScene& scene, const std::string& resultsRoot);
+Reference obtainReference(const ExperimentScene& scene, const std::string& resultsRoot);
 
 }  // namespace lb

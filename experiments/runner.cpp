@@ -180,7 +180,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::vector<Image> references;
   std::vector<SceneFile> scenes;
   for (const auto& s : e.scenes) {
-    Image ref = obtainReference(s, o.resultsRoot);
+    Reference obtained = obtainReference(s, o.resultsRoot);
+    Image ref = std::move(obtained.image);
+    meta.referenceRmseFloor[s.name] = std::sqrt(obtained.varianceOfMean);
     SceneFile sf = loadScene(s.path, s.overrides);
     if (ref.width != sf.scene->camera.width() || ref.height != sf.scene->camera.height())
       throw ConfigError(e.file, 0, "reference", "reference of " + s.name + " is " + std::to_string(ref.width) + "×" +
