@@ -46,17 +46,19 @@ Vec3 sphereErrorBound(const Vec3& center, const Vec3& pLocal) {
 }
 }  // namespace
 
-ShapeSample Shape::sampleArea(float uPick, Vec2 u) const {
+ShapeSample Shape::sphereSampleAt(const Vec3& dir) const {
   ShapeSample ss;
-  if (isSphere_) {
-    Vec3 dir = sampleUniformSphere(u);
-    Vec3 local = sphere_.radius * dir;
-    ss.p = sphere_.center + local;
-    ss.n = sphere_.flipNormals ? -dir : dir;
-    ss.pError = sphereErrorBound(sphere_.center, local);
-    ss.pdfArea = 1 / area_;
-    return ss;
-  }
+  Vec3 local = sphere_.radius * dir;
+  ss.p = sphere_.center + local;
+  ss.n = sphere_.flipNormals ? -dir : dir;
+  ss.pError = sphereErrorBound(sphere_.center, local);
+  ss.pdfArea = 1 / area_;
+  return ss;
+}
+
+ShapeSample Shape::sampleArea(float uPick, Vec2 u) const {
+  if (isSphere_) return sphereSampleAt(sampleUniformSphere(u));
+  ShapeSample ss;
   size_t tri = triangleAreas_.sample(uPick);
   const auto& t = mesh_.triangles[tri];
   const Vec3 &a = mesh_.positions[t.x], &b = mesh_.positions[t.y], &c = mesh_.positions[t.z];
@@ -101,15 +103,8 @@ ShapeSample Shape::sampleSolidAngle(const Vec3& ref, Vec2 u, float* pdf) const {
   float phi = u.y * 2 * Pi;
   Frame frame(-toCenter / dist);  // from the centre towards ref
   Vec3 nLocal(sinAlpha * std::cos(phi), sinAlpha * std::sin(phi), cosAlpha);
-  Vec3 dir = frame.toWorld(nLocal);
-  ShapeSample ss;
-  Vec3 local = sphere_.radius * dir;
-  ss.p = sphere_.center + local;
-  ss.n = sphere_.flipNormals ? -dir : dir;
-  ss.pError = sphereErrorBound(sphere_.center, local);
   *pdf = 1 / (2 * Pi * oneMinusCosThetaMax);
-  ss.pdfArea = 1 / area_;
-  return ss;
+  return sphereSampleAt(frame.toWorld(nLocal));
 }
 
 float Shape::solidAnglePdf(const Vec3& ref, const Vec3& pOnShape, const Vec3& nOnShape) const {

@@ -53,6 +53,7 @@ class Shape {
   bool isSphere_ = false;
   TriangleMesh mesh_;
   Sphere sphere_{};
+  ShapeSample sphereSampleAt(const Vec3& unitDirection) const;
   DiscreteDistribution triangleAreas_;
   float area_ = 0;
 };

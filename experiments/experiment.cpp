@@ -106,8 +106,15 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     c.label = cp.getString("label", c.integrator);
     c.params = integratorParams(cp, "params");
     cp.checkUnused();
+    auto fileName = [](const std::string& s) {
+      std::string out;
+      for (char ch : s) out += std::isalnum(static_cast<unsigned char>(ch)) ? char(std::tolower(ch)) : '-';
+      return out;
+    };
     for (const auto& other : e.configurations)
-      if (other.label == c.label) cp.fail("label", "duplicate label '" + c.label + "'");
+      if (fileName(other.label) == fileName(c.label))
+        cp.fail("label", "label '" + c.label + "' collides with '" + other.label +
+                             "' (file names use letters and digits, lower case)");
     if (!integratorExists(c.integrator)) {
       std::string msg = "integrator '" + c.integrator + "' is not built (available: " + availableIntegrators() + ")";
       if (!options.quick) cp.fail("integrator", msg);

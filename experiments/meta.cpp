@@ -37,6 +37,12 @@ std::string jsonString(const std::string& s) {
   return out + "\"";
 }
 
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
 std::string yamlText(const YAML::Node& n) {
   YAML::Emitter e;
   e << YAML::Flow << n;
@@ -68,6 +74,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
   j << "  \"lightbench\": " << jsonString(std::string(LIGHTBENCH_VERSION)) << ",\n";
   j << "  \"git_commit\": " << jsonString(LIGHTBENCH_GIT) << ",\n";
   j << "  \"started\": " << jsonString(m.started) << ",\n";
+  j << "  \"experiment_hash\": " << jsonString(m.experimentHash) << ",\n";
   j << "  \"finished\": " << (finished ? jsonString(ts) : "null") << ",\n";
   j << "  \"machine\": {\"host\": " << jsonString(hostName()) << ", \"cpu\": " << jsonString(cpuModel())
     << ", \"cores\": " << std::thread::hardware_concurrency() << "},\n";
@@ -91,7 +98,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
                                              : "file")
       << ", \"reference_rmse_floor\": "
       << (m.referenceRmseFloor.count(s.name) && std::isfinite(m.referenceRmseFloor.at(s.name))
-              ? std::to_string(m.referenceRmseFloor.at(s.name))
+              ? number(m.referenceRmseFloor.at(s.name))
               : std::string("null"))
       << ", \"crop\": " << (s.crop.empty() ? std::string("null") : "[" + std::to_string(s.crop.x0) + ", " +
                                                                    std::to_string(s.crop.y0) + ", " +
@@ -118,8 +125,10 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
 
 }  // namespace
 
-RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs) {
+RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs,
+                  const std::string& experimentHash) {
   RunMeta m;
+  m.experimentHash = experimentHash;
   std::time_t now = std::time(nullptr);
   char ts[32];
   std::strftime(ts, sizeof ts, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));

@@ -12,9 +12,11 @@ struct RunMeta {
   int threadsPerRun = 0, jobs = 1;
   std::map<std::string, std::string> referenceKeys;
   std::map<std::string, double> referenceRmseFloor;  // sqrt of the reference's mean variance
+  std::string experimentHash;  // what --resume checks: the same experiment, budget and references
 };
 
-RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs);
+RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs,
+                  const std::string& experimentHash);
 void finishMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir);
 
 }  // namespace lb

@@ -60,7 +60,8 @@ Image falseColour(const Image& error, float lo, float hi) {
   Image out(error.width, error.height);
   float l0 = std::log10(lo), l1 = std::log10(hi);
   for (size_t i = 0; i < error.pixels.size(); ++i) {
-    float v = std::log10(std::max(error.pixels[i].r, 1e-30f));
+    float e = error.pixels[i].r;
+    float v = std::isfinite(e) ? std::log10(std::max(e, 1e-30f)) : l1;  // non-finite: the top colour
     float t = glm::clamp((v - l0) / (l1 - l0), 0.f, 1.f) * 4;
     int k = std::min(3, int(t));
     Color c = glm::mix(stops[k], stops[k + 1], t - k);

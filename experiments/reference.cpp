@@ -23,16 +23,27 @@ std::string readBytes(const std::string& path) {
   ss << in.rdbuf();
   return ss.str();
 }
+// Flow style throughout, so block and flow spellings of the same mapping agree.
 std::string dump(const YAML::Node& n) {
   YAML::Emitter e;
-  e << n;
+  e << YAML::Flow << n;
   return e.c_str();
 }
 }  // namespace
 
+std::string hashStrings(const std::vector<std::string>& parts) {
+  Fnv1a f;
+  for (const auto& p : parts) f.add(p);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)f.h);
+  return hex;
+}
+
 std::string referenceKey(const ExperimentScene& s) {
   Fnv1a f;
-  f.add("lightbench-reference-v1");
+  // The renderer's version and commit: a fixed integrator must not keep
+  // serving references computed before the fix.
+  f.add("lightbench-reference-v1 " LIGHTBENCH_VERSION " " LIGHTBENCH_GIT);
   f.add(readBytes(s.path));
   YAML::Node root = loadYamlFile(s.path);
   std::string folder = std::filesystem::path(s.path).parent_path().string();

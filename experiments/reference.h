@@ -12,6 +12,8 @@ namespace lb {
 
 // FNV-1a over the inputs above, as 16 hex digits.
 std::string referenceKey(const ExperimentScene& scene);
+// FNV-1a of several strings (each delimited), as 16 hex digits.
+std::string hashStrings(const std::vector<std::string>& parts);
 
 struct Reference {
   Image image;

@@ -95,13 +95,17 @@ def band(repeats, key_x, key_y):
         xs, ys = curves[0]
         return xs, ys, ys, ys
     grid = [lo * (hi / lo) ** (i / 39) for i in range(40)]
-    med, mn, mx = [], [], []
+    grid[0], grid[-1] = lo, hi  # exact ends: rounding must not step outside any curve
+    xs_out, med, mn, mx = [], [], [], []
     for x in grid:
         vals = sorted(v for v in (interpolate_log(c[0], c[1], x) for c in curves) if v is not None)
+        if not vals:
+            continue
+        xs_out.append(x)
         med.append(vals[len(vals) // 2] if len(vals) % 2 else 0.5 * (vals[len(vals) // 2 - 1] + vals[len(vals) // 2]))
         mn.append(vals[0])
         mx.append(vals[-1])
-    return grid, med, mn, mx
+    return xs_out, med, mn, mx
 
 
 def plot_scene(scene, labels, out_dir, floor=None):

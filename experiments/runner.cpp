@@ -168,13 +168,28 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   fs::create_directories(runDir);
   std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
 
+  // What a resumed run must share with the one it continues.
+  std::vector<std::string> identity = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
+                                       std::to_string(e.budget.spp), std::to_string(e.repeats)};
+  for (const auto& s : e.scenes) identity.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  std::string experimentHash = hashStrings(identity);
+  if (o.resume && fs::exists(runDir / "meta.json")) {
+    std::ifstream in(runDir / "meta.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    if (text.str().find("\"experiment_hash\": \"" + experimentHash + "\"") == std::string::npos)
+      throw ConfigError(e.file, 0, "--resume",
+                        "the experiment, its budget or its references changed since " + runDir.string() +
+                            " was started; run without --resume to start a new run");
+  }
+
   std::set<std::string> completed;
   LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
 
   int cores = tbb::info::default_concurrency();
   int jobs = std::max(1, std::min(o.jobs, cores));
   int threadsPerRun = std::max(1, cores / jobs);
-  RunMeta meta = startMeta(e, runDir.string(), threadsPerRun, jobs);
+  RunMeta meta = startMeta(e, runDir.string(), threadsPerRun, jobs, experimentHash);
 
   // References and scenes first (references use every core).
   std::vector<Image> references;
@@ -189,6 +204,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                                                     std::to_string(ref.height) + ", the scene renders " +
                                                     std::to_string(sf.scene->camera.width()) + "×" +
                                                     std::to_string(sf.scene->camera.height()));
+    if (!s.crop.empty() && (s.crop.x1 > ref.width || s.crop.y1 > ref.height))
+      throw ConfigError(e.file, 0, "crop", "crop of " + s.name + " reaches beyond its " + std::to_string(ref.width) +
+                                               "×" + std::to_string(ref.height) + " image");
     writePng((runDir / (s.name + "__reference.png")).string(), ref);
     if (!s.crop.empty()) writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(ref, s.crop, 4));
     meta.referenceKeys[s.name] = s.reference.file.empty() ? referenceKey(s) : s.reference.file;
@@ -223,6 +241,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     RenderOptions ro;
     ro.seed = seed;
     ro.budget = e.budget;
+    ro.setupSeconds = scene.buildSeconds();  // the BVH, built once per scene, is owed to every run
     size_t nextPoint = 0;
     auto record = [&](uint64_t passes, double seconds, double preprocess, bool final) {
       Image img = film.image();
@@ -250,7 +269,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       if (due) record(p.passes, p.seconds, p.preprocessSeconds, false);
     };
     RenderReport rep = renderLoop(scene, *integrator, film, scenes[t.scene].sampler, ro, afterPass);
-    record(rep.passes, rep.seconds, rep.preprocessSeconds, true);
+    // Images first, the final row last: a run counts as finished (for
+    // --resume) only once everything it produces is on disk.
     if (t.repeat == 0) {
       std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
       Image img = film.image();
@@ -263,12 +283,24 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
         writePng(stem + "_error_crop.png", cropImage(err, es.crop, 4));
       }
     }
+    record(rep.passes, rep.seconds, rep.preprocessSeconds, true);
     ++done;
   };
 
+  std::exception_ptr failure;
+  std::mutex failureMutex;
   auto worker = [&] {
+    // A task arena takes the floating-point mode of the thread that creates
+    // it: set flush-to-zero first, so every run traces in the same mode.
+    enableFlushToZeroOnAllThreads();
     tbb::task_arena arena(threadsPerRun);
-    for (size_t i; (i = next++) < tasks.size();) arena.execute([&] { runOne(tasks[i]); });
+    try {
+      for (size_t i; (i = next++) < tasks.size();) arena.execute([&] { runOne(tasks[i]); });
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(failureMutex);
+      if (!failure) failure = std::current_exception();
+      next = tasks.size();  // the other workers stop after their current run
+    }
   };
   if (jobs == 1) worker();
   else {
@@ -276,6 +308,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
     for (auto& th : pool) th.join();
   }
+  if (failure) std::rethrow_exception(failure);
 
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";

@@ -34,7 +34,9 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   RenderReport report;
   auto start = Clock::now();
   double excluded = 0;  // time spent in afterPass (snapshot metrics): not the integrator's
-  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count() - excluded; };
+  auto elapsed = [&] {
+    return options.setupSeconds + std::chrono::duration<double>(Clock::now() - start).count() - excluded;
+  };
   integrator.preprocess(scene, *sampler);
   report.preprocessSeconds = elapsed();
 
@@ -44,6 +46,7 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   PassStats stats;
   for (uint64_t pass = 0;; ++pass) {
     if (budget.spp > 0 && pass >= budget.spp) break;
+    if (budget.seconds > 0 && pass == 0 && elapsed() >= budget.seconds) break;  // preprocessing used it all
     if (budget.seconds > 0 && pass > 0) {
       double perPass = (elapsed() - report.preprocessSeconds) / double(pass);
       if (elapsed() + perPass > budget.seconds) break;

@@ -14,6 +14,9 @@ struct RenderBudget {
 };
 
 struct RenderOptions {
+  // Setup done before the loop but owed to this render (the scene's BVH build
+  // when the scene is shared between runs): added to its clock and preprocess.
+  double setupSeconds = 0;
   uint64_t seed = 0;
   RenderBudget budget;
   bool progress = false;  // a progress line on stderr

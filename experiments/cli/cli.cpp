@@ -2,9 +2,22 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include "experiments/cli/commands.h"
+#include "core/error.h"
 #include "integrators/registry.h"
 
 namespace lb {
+
+int withErrorExitCodes(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
 
 std::string versionString() { return std::string("lightbench ") + LIGHTBENCH_VERSION + " (" + LIGHTBENCH_GIT + ")"; }
 

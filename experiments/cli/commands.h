@@ -1,6 +1,7 @@
 #pragma once
 // Sub-commands of the `lightbench` program. Each returns the process exit code:
 // 0 success, 1 runtime failure, 2 bad input (a ConfigError, with file:line:key).
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct RenderArgs {
   long long replaySample = -1;
   bool quiet = false;
 };
+
+// Runs a command body: a ConfigError prints "error: file:line: key: ..." and
+// gives exit code 2, any other exception exit code 1.
+int withErrorExitCodes(const std::function<int()>& body);
 
 int runRender(const RenderArgs& args);
 

@@ -137,15 +137,7 @@ int render(const RenderArgs& args) {
 }  // namespace
 
 int runRender(const RenderArgs& args) {
-  try {
-    return render(args);
-  } catch (const ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+  return withErrorExitCodes([&] { return render(args); });
 }
 
 }  // namespace lb

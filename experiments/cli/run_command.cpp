@@ -1,12 +1,13 @@
 // `lightbench run`: load and check the experiment, then hand it to the runner.
 #include <iostream>
 #include "experiments/cli/commands.h"
+#include "core/error.h"
 #include "experiments/runner.h"
 
 namespace lb {
 
 int runExperimentCommand(const RunArgs& args) {
-  try {
+  return withErrorExitCodes([&] {
     ExperimentOptions eo;
     eo.quick = args.quick;
     Experiment e = loadExperiment(args.experiment, eo);
@@ -17,13 +18,7 @@ int runExperimentCommand(const RunArgs& args) {
     ro.report = !args.noReport;
     runExperiment(e, ro);
     return 0;
-  } catch (const ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 }  // namespace lb

@@ -150,6 +150,16 @@ TEST_F(Runner, WritesLogImagesPlotsAndReport) {
     EXPECT_NE(meta.find(key), std::string::npos) << key;
 }
 
+TEST_F(Runner, ReportCopesWithOneRepeatAndUnevenSnapshots) {
+  // One repeat (as --quick forces) and a budget that is not a power of two.
+  Experiment e = loadExperiment(writeExperiment("{spp: 30}", 1), {});
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  fs::path run = runExperiment(e, o);
+  EXPECT_TRUE(fs::exists(run / "report.html"));
+  EXPECT_TRUE(fs::exists(run / "scene__rmse_vs_spp.png"));
+}
+
 TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
   std::ofstream(dir_ / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   std::ofstream(dir_ / "scene.yaml", std::ios::app) << "\n";  // keep the copied scene valid
@@ -184,7 +194,7 @@ TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
 }
 
 TEST_F(Runner, KilledRunKeepsItsLogAndResumeCompletesIt) {
-  std::string exp = writeExperiment("{seconds: 1.0}", 2);
+  std::string exp = writeExperiment("{seconds: 3.0}", 2);
   fs::path results = dir_ / "results";
   pid_t pid = fork();
   if (pid == 0) {
@@ -217,10 +227,26 @@ TEST_F(Runner, KilledRunKeepsItsLogAndResumeCompletesIt) {
   EXPECT_NE(err.find("already complete"), std::string::npos) << err;
   CsvTable full = readCsv(log);
   std::map<std::string, int> finals;
-  for (const auto& r : full.rows)
+  std::map<std::string, std::vector<int>> spp;
+  for (const auto& r : full.rows) {
     if (r.at("final") == "1") finals[r.at("label") + "/" + r.at("repeat")] += 1;
+    spp[r.at("label") + "/" + r.at("repeat")].push_back(std::stoi(r.at("spp")));
+  }
   EXPECT_EQ(finals.size(), 4u);
   for (const auto& [k, n] : finals) EXPECT_EQ(n, 1) << k;
+  // The interrupted run's partial rows are gone: each run's snapshots are one
+  // strictly increasing sequence of at most snapshots + 1 rows.
+  for (const auto& [k, v] : spp) {
+    EXPECT_LE(v.size(), 5u) << k;
+    for (size_t i = 1; i < v.size(); ++i) EXPECT_GT(v[i], v[i - 1]) << k;
+  }
+  for (const char* f : {"scene__bsdf.exr", "scene__mis.exr", "scene__mis_error.png"})
+    EXPECT_TRUE(fs::exists(log.parent_path() / f)) << f;
+
+  // A changed experiment is not resumed into the old run.
+  std::ofstream(dir_ / "exp.yaml", std::ios::app) << "seed: 5\n";
+  EXPECT_EQ(runBinary(exp + " --resume --no-report --results " + results.string(), &err), 2);
+  EXPECT_NE(err.find("changed since"), std::string::npos) << err;
 }
 
 TEST_F(Runner, BadExperimentFilesAreClearErrors) {
@@ -257,6 +283,19 @@ TEST_F(Runner, BadExperimentFilesAreClearErrors) {
   std::ofstream(dir_ / "exp.yaml") << text;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
   EXPECT_NE(err.find("exp.yaml:2: 'scenes[0].scene': scene file not found"), std::string::npos) << err;
+  // A crop beyond the image, and labels that would share file names.
+  writeExperiment("{spp: 2}", 1);
+  text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("crop: [4, 8, 12, 16]"), 20, "crop: [4, 8, 12, 17]");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "r2").string(), &err), 2);
+  EXPECT_NE(err.find("'crop': crop of scene reaches beyond its 16×16 image"), std::string::npos) << err;
+  writeExperiment("{spp: 2}", 1);
+  text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("label: mis,"), 11, "label: BSDF,");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("label 'BSDF' collides with 'bsdf'"), std::string::npos) << err;
 }
 
 }  // namespace
