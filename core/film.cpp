@@ -3,19 +3,31 @@
 
 namespace lb {
 
+void PassImage::add(int x, int y, const Color& v, uint64_t sampleIndex, Film& film) {
+  if (!isFinite(v)) {
+    film.recordNonFinite(x, y, sampleIndex);
+    return;
+  }
+  value_[size_t(y) * width_ + x] += glm::dvec3(v);
+}
+
 Film::Film(int width, int height)
     : width_(width), height_(height), sum_(size_t(width) * height, glm::dvec3(0)),
       sumSq_(size_t(width) * height, glm::dvec3(0)), count_(size_t(width) * height, 0),
-      splat_(size_t(width) * height, glm::dvec3(0)) {}
+      passSum_(size_t(width) * height, glm::dvec3(0)), passSumSq_(size_t(width) * height, glm::dvec3(0)) {}
+
+void Film::recordNonFinite(int x, int y, uint64_t sampleIndex) {
+  nonFinite_.fetch_add(1);
+  std::lock_guard<std::mutex> lock(recordMutex_);
+  records_.push_back({x, y, sampleIndex});
+  std::sort(records_.begin(), records_.end());
+  if (records_.size() > RecordedNonFinite) records_.pop_back();
+}
 
 void Film::addSample(int x, int y, uint64_t sampleIndex, Color L) {
   size_t i = index(x, y);
   if (!isFinite(L)) {
-    nonFinite_.fetch_add(1);
-    std::lock_guard<std::mutex> lock(recordMutex_);
-    records_.push_back({x, y, sampleIndex});
-    std::sort(records_.begin(), records_.end());
-    if (records_.size() > RecordedNonFinite) records_.pop_back();
+    recordNonFinite(x, y, sampleIndex);
     L = Color(0.f);
   }
   glm::dvec3 v(L);
@@ -24,32 +36,38 @@ void Film::addSample(int x, int y, uint64_t sampleIndex, Color L) {
   count_[i] += 1;
 }
 
-void Film::mergeSplats(const SplatBuffer& splats) {
-  for (size_t i = 0; i < splat_.size(); ++i) {
-    const glm::dvec3& v = splats.sum[i];
-    if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) splat_[i] += v;
-    else nonFinite_.fetch_add(1);
+void Film::addPass(const PassImage& pass) {
+  const auto& v = pass.values();
+  for (size_t i = 0; i < v.size(); ++i) {
+    passSum_[i] += v[i];
+    passSumSq_[i] += v[i] * v[i];
   }
+  ++passes_;
 }
 
 Image Film::image() const {
   Image img(width_, height_);
   for (size_t i = 0; i < sum_.size(); ++i) {
     glm::dvec3 mean = count_[i] ? sum_[i] / double(count_[i]) : glm::dvec3(0);
-    img.pixels[i] = Color(mean + splat_[i] / splatScale_);
+    if (passes_) mean += passSum_[i] / double(passes_);
+    img.pixels[i] = Color(mean);
   }
   return img;
 }
 
+namespace {
+glm::dvec3 meanVariance(const glm::dvec3& sum, const glm::dvec3& sumSq, double n) {
+  if (n < 2) return glm::dvec3(0);
+  glm::dvec3 mean = sum / n;
+  return glm::max(glm::dvec3(0), (sumSq - n * mean * mean) / (n - 1)) / n;
+}
+}  // namespace
+
 Image Film::varianceOfMean() const {
   Image img(width_, height_);
-  for (size_t i = 0; i < sum_.size(); ++i) {
-    double n = double(count_[i]);
-    if (n < 2) continue;
-    glm::dvec3 mean = sum_[i] / n;
-    glm::dvec3 s2 = glm::max(glm::dvec3(0), (sumSq_[i] - n * mean * mean) / (n - 1));
-    img.pixels[i] = Color(s2 / n);
-  }
+  for (size_t i = 0; i < sum_.size(); ++i)
+    img.pixels[i] = Color(meanVariance(sum_[i], sumSq_[i], double(count_[i])) +
+                          meanVariance(passSum_[i], passSumSq_[i], double(passes_)));
   return img;
 }
 

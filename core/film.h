@@ -1,12 +1,18 @@
 #pragma once
-// Film: per-pixel accumulation of camera-path samples with a running variance,
-// plus a splat buffer for light-tracing contributions. Non-finite samples never
-// reach the image: they are counted, replaced by zero, and the first few are
-// recorded with their pixel and sample index so they can be replayed.
+// Film: the image estimate and its variance, from two kinds of contributions.
+//  * Camera samples (path tracing): addSample(x, y, i, L) keeps a per-pixel
+//    mean and sample variance.
+//  * Whole passes (light tracing, BDPT): a PassImage holds one estimate per
+//    pixel for one pass — its camera-side contributions plus every splat of
+//    that pass's light paths; addPass() keeps the mean and variance over
+//    passes. With one light path per pixel per pass, a pixel's splat total is
+//    already normalised (references.md: pixels / light paths = 1 per pass).
+// Non-finite values never reach the image: they are counted, replaced by
+// zero, and the first few are recorded with pixel and sample index.
 //
-// Determinism: a pixel's samples are added by one thread, in sample order, and
-// splat buffers are merged in a fixed order, so the sums do not depend on the
-// thread count.
+// Determinism: a pixel's samples are added by one thread in sample order, and
+// a pass's splats are added in a fixed order (tile by tile), so the sums do not
+// depend on the thread count.
 #include <atomic>
 #include <mutex>
 #include <vector>
@@ -22,15 +28,32 @@ struct NonFiniteSample {
   }
 };
 
-// Light-tracing splats of one worker, merged into the film in a fixed order.
-struct SplatBuffer {
-  int width = 0, height = 0;
-  std::vector<glm::dvec3> sum;
-  SplatBuffer(int w, int h) : width(w), height(h), sum(size_t(w) * size_t(h), glm::dvec3(0)) {}
-  void add(Vec2 raster, const Color& v) {
-    int x = std::min(int(raster.x), width - 1), y = std::min(int(raster.y), height - 1);
-    sum[size_t(y) * width + x] += glm::dvec3(v);
+class Film;
+
+// One pass of a splatting integrator. add() is not thread-safe: camera-side
+// contributions go to a pixel owned by one tile, splats are collected per tile
+// and added afterwards in tile order.
+class PassImage {
+ public:
+  PassImage(int width, int height) : width_(width), height_(height), value_(size_t(width) * height, glm::dvec3(0)) {}
+  int width() const { return width_; }
+  int height() const { return height_; }
+  // Adds to pixel (x, y); non-finite values are reported to `film` and dropped.
+  void add(int x, int y, const Color& v, uint64_t sampleIndex, Film& film);
+  void addAtRaster(Vec2 raster, const Color& v, uint64_t sampleIndex, Film& film) {
+    add(std::min(int(raster.x), width_ - 1), std::min(int(raster.y), height_ - 1), v, sampleIndex, film);
   }
+  const std::vector<glm::dvec3>& values() const { return value_; }
+
+ private:
+  int width_, height_;
+  std::vector<glm::dvec3> value_;
+};
+
+// A splat recorded by a worker, applied later in a fixed order.
+struct Splat {
+  Vec2 raster;
+  Color value;
 };
 
 class Film {
@@ -41,16 +64,18 @@ class Film {
 
   // Thread-safe for distinct pixels.
   void addSample(int x, int y, uint64_t sampleIndex, Color L);
-  void mergeSplats(const SplatBuffer& splats);
-  // Splats are divided by this (e.g. the number of light paths per pixel).
-  void setSplatScale(double scale) { splatScale_ = scale; }
+  void addPass(const PassImage& pass);
 
   uint64_t samples(int x, int y) const { return count_[index(x, y)]; }
+  uint64_t passes() const { return passes_; }
   Image image() const;
-  // Per-pixel variance of the pixel mean, per channel: s²/n.
+  // Per-pixel variance of the pixel estimate, per channel: s²/n for each kind
+  // of contribution (an integrator uses one kind).
   Image varianceOfMean() const;
   double meanVarianceOfMean() const;  // over pixels and channels
 
+  // Thread-safe.
+  void recordNonFinite(int x, int y, uint64_t sampleIndex);
   uint64_t nonFiniteCount() const { return nonFinite_.load(); }
   std::vector<NonFiniteSample> firstNonFinite() const;
   static constexpr size_t RecordedNonFinite = 8;
@@ -60,8 +85,8 @@ class Film {
   int width_, height_;
   std::vector<glm::dvec3> sum_, sumSq_;
   std::vector<uint64_t> count_;
-  std::vector<glm::dvec3> splat_;
-  double splatScale_ = 1;
+  std::vector<glm::dvec3> passSum_, passSumSq_;
+  uint64_t passes_ = 0;
   std::atomic<uint64_t> nonFinite_{0};
   mutable std::mutex recordMutex_;
   std::vector<NonFiniteSample> records_;

@@ -5,6 +5,8 @@
 // pixel) and must depend only on (seed, pass), never on thread scheduling.
 #include <atomic>
 #include <optional>
+#include <string>
+#include <vector>
 #include "core/film.h"
 #include "core/sampler.h"
 #include "core/scene.h"
@@ -22,6 +24,9 @@ class Integrator {
   virtual void preprocess(const Scene&, const Sampler& /*prototype*/) {}
   virtual void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
                           PassStats& stats) = 0;
+  // Extra images an integrator can write beside the main one (e.g. BDPT's
+  // per-strategy images); returns the paths written.
+  virtual std::vector<std::string> writeExtraOutputs(const std::string& /*stem*/) const { return {}; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the
   // integrator estimates pixels one at a time.
   virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {

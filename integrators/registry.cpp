@@ -1,4 +1,6 @@
 #include "integrators/registry.h"
+#include "integrators/bdpt/bdpt.h"
+#include "integrators/light/light_tracer.h"
 #include "integrators/path/path_tracer.h"
 
 namespace lb {
@@ -7,6 +9,10 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
   static const std::vector<IntegratorEntry> table = {
       {"path", "unidirectional path tracing: uniform/cosine/BSDF sampling, NEE, MIS, Russian roulette",
        [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); }},
+      {"light", "light tracing: particles from the lights splatted to the camera (t = 1 strategies)",
+       [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }},
+      {"bdpt", "bidirectional path tracing, every (s,t) strategy, MIS balance/power/uniform",
+       [](Params& p) { return std::make_unique<Bdpt>(BdptSettings::read(p)); }},
   };
   return table;
 }

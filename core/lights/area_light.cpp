@@ -49,6 +49,7 @@ std::optional<LightEmission> AreaLight::sampleLe(float uPick, Vec2 uPos, Vec2 uD
   Vec3 dir = Frame(n).toWorld(local);
   LightEmission e;
   e.ray = {offsetRayOrigin(ss.p, ss.pError, ss.n, dir), dir, Infinity};
+  e.p = ss.p;
   e.n = n;  // the emitting side's normal, so cos(n, dir) > 0
   e.pError = ss.pError;
   e.Le = radiance_;

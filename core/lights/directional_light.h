@@ -24,6 +24,7 @@ class DirectionalLight final : public Light {
     Vec3 origin = center_ - frame_.n * radius_ + radius_ * (d.x * frame_.s + d.y * frame_.t);
     LightEmission e;
     e.ray = {origin, frame_.n, Infinity};
+    e.p = e.ray.o;
     e.Le = irradiance_;
     e.pdfPos = 1 / (Pi * radius_ * radius_);
     e.pdfDir = 1;

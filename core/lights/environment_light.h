@@ -25,6 +25,7 @@ class EnvironmentLight final : public Light {
     Vec2 d = sampleConcentricDisk(uPos);
     LightEmission e;
     e.ray = {center_ + w * radius_ + radius_ * (d.x * frame.s + d.y * frame.t), -w, Infinity};
+    e.p = e.ray.o;
     e.Le = radiance_;
     e.pdfPos = 1 / (Pi * radius_ * radius_);
     e.pdfDir = uniformSpherePdf();

@@ -21,6 +21,7 @@ struct LightSample {
 
 struct LightEmission {
   Ray ray;
+  Vec3 p{0.f};     // the sampled point itself (ray.o is offset off the surface)
   Vec3 n{0.f};     // normal of the emitting side at the origin (0 for point-like sources)
   Vec3 pError{0.f};
   Color Le{0.f};   // emitted radiance (or intensity) along the ray

@@ -19,6 +19,7 @@ class PointLight final : public Light {
   std::optional<LightEmission> sampleLe(float, Vec2, Vec2 uDir) const override {
     LightEmission e;
     e.ray = {position_, sampleUniformSphere(uDir), Infinity};
+    e.p = e.ray.o;
     e.Le = intensity_;
     e.pdfPos = 1;
     e.pdfDir = uniformSpherePdf();

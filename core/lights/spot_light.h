@@ -34,6 +34,7 @@ class SpotLight final : public Light {
     LightEmission e;
     Vec3 w = frame_.toWorld(sampleUniformCone(uDir, cosTotal_));
     e.ray = {position_, w, Infinity};
+    e.p = e.ray.o;
     e.Le = I(w);
     e.pdfPos = 1;
     e.pdfDir = uniformConePdf(cosTotal_);

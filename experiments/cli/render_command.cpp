@@ -129,8 +129,11 @@ int render(const RenderArgs& args) {
   writeExr(output, image);
   writePng(stem + ".png", image);
   writeTextFile(stem + ".config.yaml", std::string(emitter.c_str()) + "\n");
+  std::vector<std::string> extra = integrator->writeExtraOutputs(stem);
   printSummary(rep, film);
-  std::cerr << "wrote " << output << ", " << stem << ".png, " << stem << ".config.yaml\n";
+  std::cerr << "wrote " << output << ", " << stem << ".png, " << stem << ".config.yaml";
+  if (!extra.empty()) std::cerr << " and " << extra.size() << " more (" << extra.front() << " …)";
+  std::cerr << "\n";
   return 0;
 }
 

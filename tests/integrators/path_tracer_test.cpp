@@ -15,28 +15,6 @@ const std::vector<std::string> Variants = {
     "{nee: true, mis: none}",         "{nee: true, mis: balance}",      "{nee: true, mis: power}",
     "{sampling: cosine, nee: true, mis: power}"};
 
-// Mean over all pixels of a film against an exact value: z-test with the
-// variance of the mean from the film's per-pixel estimates.
-::testing::AssertionResult meanMatches(const Film& film, double expected, double alpha, int channel = 0,
-                                       int x0 = 0, int y0 = 0, int x1 = -1, int y1 = -1) {
-  if (x1 < 0) x1 = film.width(), y1 = film.height();
-  Image img = film.image(), var = film.varianceOfMean();
-  double sum = 0, varSum = 0, n = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) sum += img.at(x, y)[channel], varSum += var.at(x, y)[channel], n += 1;
-  double mean = sum / n, varMean = varSum / (n * n);
-  // Besides Monte Carlo error, each sample carries float rounding: a path's
-  // few dozen single-precision operations give a relative bias of at most
-  // about 32 ulp, which matters only when the estimator has (near) zero
-  // variance, as in the white furnace.
-  double rounding = 32 * double(MachineEpsilon) * std::abs(expected);
-  double critical = normalCritical(alpha);
-  double z = (std::abs(mean - expected) - rounding) / std::sqrt(varMean);
-  if (std::abs(mean - expected) <= rounding || std::abs(z) <= critical) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "mean " << mean << " vs exact " << expected << ", z = " << z
-                                       << " (critical " << critical << ", sd of mean " << std::sqrt(varMean) << ")";
-}
-
 std::string furnaceScene(float albedo) {
   // Camera inside a closed, inward-facing sphere of albedo a emitting Le = 1:
   // L = Le / (1 - a) everywhere (testing.md §2).
@@ -91,25 +69,7 @@ TEST(PathTracer, PointLightOverDiffusePlaneIsAnalytic) {
                       "lights: [{type: point, position: [0.3, 2, 0.2], intensity: 10}]\n";
   SceneFile sf = loadSceneFromString(scene, "point-plane.yaml");
   auto film = renderScene(sf, {"path", "{max_depth: 2}", 32, 2});
-  // Pixel centres carry the jitter's average only approximately, so compare
-  // the whole image against the exact pixel-area average computed by dense
-  // quadrature of the analytic formula.
-  const Camera& cam = sf.scene->camera;
-  double exact = 0;
-  const int q = 8;
-  for (int y = 0; y < 16; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int j = 0; j < q; ++j)
-        for (int i = 0; i < q; ++i) {
-          Ray r = cam.generateRay(Vec2(x + (i + 0.5f) / q, y + (j + 0.5f) / q));
-          float t = -r.o.y / r.d.y;
-          Vec3 p = r.o + t * r.d, toLight = Vec3(0.3f, h, 0.2f) - p;
-          float r2 = glm::dot(toLight, toLight), cos = toLight.y / std::sqrt(r2);
-          exact += rho * I * cos / (Pi * r2);
-        }
-  exact /= 16.0 * 16 * q * q;
-  // Quadrature error of the 8×8 midpoint rule on this smooth integrand is far
-  // below the Monte Carlo error of 32 spp; the z-test bounds the latter.
+  double exact = pointLightOverPlane(sf.scene->camera, Vec3(0.3f, h, 0.2f), I, rho);
   EXPECT_TRUE(meanMatches(*film, exact, Alpha));
 }
 

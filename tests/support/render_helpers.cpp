@@ -36,7 +36,7 @@ std::unique_ptr<Film> renderScene(const SceneFile& sf, const RenderSpec& spec) {
   return film;
 }
 
-RegionMeans regionMeans(const Film& film, int rx, int ry) {
+RegionMeans regionMeans(const Film& film, int rx, int ry, const std::vector<bool>* mask) {
   RegionMeans r;
   r.regionsX = rx, r.regionsY = ry;
   r.mean.assign(size_t(rx * ry * 3), 0);
@@ -45,6 +45,7 @@ RegionMeans regionMeans(const Film& film, int rx, int ry) {
   Image img = film.image(), var = film.varianceOfMean();
   for (int y = 0; y < film.height(); ++y)
     for (int x = 0; x < film.width(); ++x) {
+      if (mask && !(*mask)[size_t(y) * film.width() + x]) continue;
       size_t region = size_t((y * ry / film.height()) * rx + x * rx / film.width());
       for (int c = 0; c < 3; ++c) {
         r.mean[region * 3 + c] += img.at(x, y)[c];
@@ -53,10 +54,64 @@ RegionMeans regionMeans(const Film& film, int rx, int ry) {
       count[region] += 1;
     }
   for (size_t i = 0; i < r.mean.size(); ++i) {
+    if (count[i / 3] == 0) continue;  // a fully masked region compares 0 with 0
     r.mean[i] /= count[i / 3];
     r.varianceOfMean[i] /= count[i / 3] * count[i / 3];
   }
   return r;
+}
+
+std::vector<bool> diffusePrimaryHits(const Scene& scene) {
+  const Camera& cam = scene.camera;
+  std::vector<bool> mask(size_t(cam.width()) * cam.height());
+  const Vec2 offsets[5] = {{0.5f, 0.5f}, {0.001f, 0.001f}, {0.999f, 0.001f}, {0.001f, 0.999f}, {0.999f, 0.999f}};
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x) {
+      bool ok = true;
+      for (Vec2 o : offsets) {
+        SurfaceInteraction si;
+        ok = ok && scene.intersect(cam.generateRay(Vec2(x, y) + o), si) && si.material &&
+             si.material->flags() == (BSDFReflection | BSDFDiffuse);
+      }
+      mask[size_t(y) * cam.width() + x] = ok;
+    }
+  return mask;
+}
+
+::testing::AssertionResult meanMatches(const Film& film, double expected, double alpha, int channel, int x0, int y0,
+                                       int x1, int y1) {
+  if (x1 < 0) x1 = film.width(), y1 = film.height();
+  Image img = film.image(), var = film.varianceOfMean();
+  double sum = 0, varSum = 0, n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) sum += img.at(x, y)[channel], varSum += var.at(x, y)[channel], n += 1;
+  double mean = sum / n, varMean = varSum / (n * n);
+  // Besides Monte Carlo error, each sample carries float rounding: a path's
+  // few dozen single-precision operations give a relative bias of at most
+  // about 32 ulp, which matters only when the estimator has (near) zero
+  // variance, as in the white furnace.
+  double rounding = 32 * double(MachineEpsilon) * std::abs(expected);
+  double critical = normalCritical(alpha);
+  double z = (std::abs(mean - expected) - rounding) / std::sqrt(varMean);
+  if (std::abs(mean - expected) <= rounding || std::abs(z) <= critical) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "mean " << mean << " vs exact " << expected << ", z = " << z
+                                       << " (critical " << critical << ", sd of mean " << std::sqrt(varMean) << ")";
+}
+
+double pointLightOverPlane(const Camera& cam, Vec3 light, float I, float rho) {
+  double exact = 0;
+  const int q = 8;  // 8×8 midpoint rule per pixel: error far below the MC error of these tests
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x)
+      for (int j = 0; j < q; ++j)
+        for (int i = 0; i < q; ++i) {
+          Ray r = cam.generateRay(Vec2(x + (i + 0.5f) / q, y + (j + 0.5f) / q));
+          float t = -r.o.y / r.d.y;
+          Vec3 p = r.o + t * r.d, toLight = light - p;
+          float r2 = glm::dot(toLight, toLight), cos = toLight.y / std::sqrt(r2);
+          exact += rho * I * cos / (Pi * r2);
+        }
+  return exact / (double(cam.width()) * cam.height() * q * q);
 }
 
 std::string compareRegions(const RegionMeans& a, const RegionMeans& b, double alpha) {

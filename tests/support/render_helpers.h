@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 #include "core/film.h"
+#include <gtest/gtest.h>
 #include "core/scene_loader.h"
 #include "tests/support/statistics.h"
 
@@ -29,7 +30,21 @@ struct RegionMeans {
   int regionsX = 0, regionsY = 0;
   std::vector<double> mean, varianceOfMean;  // per region and channel: [region * 3 + c]
 };
-RegionMeans regionMeans(const Film& film, int regionsX, int regionsY);
+// `mask` (optional, one entry per pixel) keeps only the pixels marked true.
+RegionMeans regionMeans(const Film& film, int regionsX, int regionsY, const std::vector<bool>* mask = nullptr);
+// Pixels whose camera rays (centre and four corners) all first hit a surface
+// with a purely diffuse material.
+std::vector<bool> diffusePrimaryHits(const Scene& scene);
+
+// Mean over a rectangle of the film against an exact value: z-test with the
+// variance of the mean from the film's per-pixel estimates, plus a float
+// rounding allowance that matters only for zero-variance estimators.
+::testing::AssertionResult meanMatches(const Film& film, double expected, double alpha, int channel = 0, int x0 = 0,
+                                       int y0 = 0, int x1 = -1, int y1 = -1);
+
+// Exact pixel-averaged radiance of a diffuse plane y = 0 (albedo rho) under a
+// point light (intensity I) for `camera`, by dense quadrature of ρIcosθ/(πr²).
+double pointLightOverPlane(const Camera& camera, Vec3 light, float intensity, float rho);
 
 // z-tests of A against B over all regions, Šidák-corrected at level alpha;
 // returns a description of every failing region (empty when all pass).

@@ -1,0 +1,148 @@
+// Connection strategies and their MIS weights (pbrt-v3 §16.3.3–16.3.4).
+#include "integrators/bdpt/bdpt.h"
+
+namespace lb::bdpt {
+
+namespace {
+
+// Restores a value on scope exit: MIS weights edit a few vertex fields to
+// describe the path as the other strategies would have sampled it.
+template <typename T>
+class Restore {
+ public:
+  Restore() = default;
+  Restore(T* target, T value) : target_(target), saved_(*target) { *target = value; }
+  Restore(Restore&& o) noexcept : target_(o.target_), saved_(o.saved_) { o.target_ = nullptr; }
+  Restore& operator=(Restore&& o) noexcept {
+    std::swap(target_, o.target_), std::swap(saved_, o.saved_);
+    return *this;
+  }
+  ~Restore() {
+    if (target_) *target_ = saved_;
+  }
+
+ private:
+  T* target_ = nullptr;
+  T saved_{};
+};
+
+bool visible(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& rays) {
+  ++rays;
+  if (b.isInfiniteLight()) return !scene.occluded(a.si.spawnRay(glm::normalize(b.p - a.p)));
+  Vec3 from = offsetRayOrigin(a.p, a.pError, a.ng, b.p - a.p);
+  Vec3 to = offsetRayOrigin(b.p, b.pError, b.ng, from - b.p);
+  return !scene.occluded({from, to - from, 1 - ShadowEpsilon});
+}
+
+// Geometry term with shading-normal cosines and visibility.
+float geometry(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& rays) {
+  Vec3 d = b.p - a.p;
+  float d2 = glm::dot(d, d);
+  if (d2 == 0) return 0;
+  d /= std::sqrt(d2);
+  float g = 1 / d2;
+  if (a.onSurface()) g *= absDot(a.type == VertexType::Surface ? a.shadingNormal() : a.ng, d);
+  if (b.onSurface()) g *= absDot(b.type == VertexType::Surface ? b.shadingNormal() : b.ng, d);
+  if (g == 0 || !visible(scene, a, b, rays)) return 0;
+  return g;
+}
+
+float heuristicTerm(MisWeighting h, float r) {
+  switch (h) {
+    case MisWeighting::Power: return r * r;
+    case MisWeighting::Balance: return r;
+    default: return r > 0 ? 1.f : 0.f;  // uniform: count every strategy that can sample the path
+  }
+}
+
+}  // namespace
+
+float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, std::vector<Vertex>& camera,
+                const Vertex& sampled, int s, int t) {
+  if (s + t == 2) return 1;
+  auto remap0 = [](float f) { return f != 0 ? f : 1.f; };
+  Vertex* qs = s > 0 ? &light[size_t(s - 1)] : nullptr;
+  Vertex* pt = t > 0 ? &camera[size_t(t - 1)] : nullptr;
+  Vertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
+  Vertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;
+
+  // The freshly sampled endpoint replaces the subpath's own for s = 1 / t = 1.
+  Restore<Vertex> a1;
+  if (s == 1) a1 = Restore<Vertex>(qs, sampled);
+  else if (t == 1) a1 = Restore<Vertex>(pt, sampled);
+  // The connection vertices are connectible, so not delta for this path.
+  Restore<bool> a2, a3;
+  if (pt) a2 = Restore<bool>(&pt->delta, false);
+  if (qs) a3 = Restore<bool>(&qs->delta, false);
+  // Reverse densities at and next to the connection, seen from the other side.
+  Restore<float> a4, a5, a6, a7;
+  if (pt) a4 = Restore<float>(&pt->pdfRev, s > 0 ? vertexPdf(scene, *qs, qsMinus, *pt) : pdfLightOrigin(scene, *pt, *ptMinus));
+  if (ptMinus) a5 = Restore<float>(&ptMinus->pdfRev, s > 0 ? vertexPdf(scene, *pt, qs, *ptMinus) : pdfLight(scene, *pt, *ptMinus));
+  if (qs) a6 = Restore<float>(&qs->pdfRev, vertexPdf(scene, *pt, ptMinus, *qs));
+  if (qsMinus) a7 = Restore<float>(&qsMinus->pdfRev, vertexPdf(scene, *qs, pt, *qsMinus));
+
+  // r_i = p_i / p_s along each subpath (Veach Eq. 10.9, as ratios of densities).
+  float sum = 0, r = 1;
+  for (int i = t - 1; i > 0; --i) {
+    r *= remap0(camera[size_t(i)].pdfRev) / remap0(camera[size_t(i)].pdfFwd);
+    if (!camera[size_t(i)].delta && !camera[size_t(i - 1)].delta) sum += heuristicTerm(h, r);
+  }
+  r = 1;
+  for (int i = s - 1; i >= 0; --i) {
+    r *= remap0(light[size_t(i)].pdfRev) / remap0(light[size_t(i)].pdfFwd);
+    bool deltaBefore = i > 0 ? light[size_t(i - 1)].delta : light[0].isDeltaLight();
+    if (!light[size_t(i)].delta && !deltaBefore) sum += heuristicTerm(h, r);
+  }
+  return 1 / (1 + sum);
+}
+
+Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& settings, std::vector<Vertex>& light,
+                   std::vector<Vertex>& camera, int s, int t, uint64_t& rays) {
+  Connection c;
+  // A camera path that escaped cannot be connected to anything.
+  if (t > 1 && s != 0 && camera[size_t(t - 1)].type == VertexType::Light) return c;
+  Vertex sampled;
+  if (s == 0) {
+    const Vertex& pt = camera[size_t(t - 1)];
+    if (pt.isLight()) c.L = pt.beta * emitted(scene, pt, camera[size_t(t - 2)]);
+  } else if (t == 1) {
+    const Vertex& qs = light[size_t(s - 1)];
+    if (qs.connectible() && qs.type == VertexType::Surface) {
+      if (auto cam = scene.camera.connect(qs.p)) {
+        sampled = cameraVertex(scene.camera, Color(cam->We / cam->pdf));
+        c.L = qs.beta * vertexF(qs, sampled, TransportMode::Importance) * sampled.beta *
+              absDot(cam->wi, qs.shadingNormal());
+        c.raster = cam->raster;
+        if (!isBlack(c.L) && !visible(scene, qs, sampled, rays)) c.L = Color(0.f);
+      }
+    }
+  } else if (s == 1) {
+    const Vertex& pt = camera[size_t(t - 1)];
+    if (pt.connectible() && pt.type == VertexType::Surface) {
+      float pmf;
+      const Light* l = scene.lightSampler().sample(sampler.get1D(), &pmf);
+      float uPick = sampler.get1D();
+      Vec2 u = sampler.get2D();
+      if (l) {
+        auto ls = l->sampleLi(pt.p, uPick, u);
+        if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
+          sampled = lightVertex(l, ls->p, ls->n, ls->pError, ls->L / (ls->pdf * pmf), 0);
+          sampled.pdfFwd = pdfLightOrigin(scene, sampled, pt);
+          c.L = pt.beta * vertexF(pt, sampled, TransportMode::Radiance) * sampled.beta *
+                absDot(ls->wi, pt.shadingNormal());
+          if (!isBlack(c.L) && !visible(scene, pt, sampled, rays)) c.L = Color(0.f);
+        }
+      }
+    }
+  } else {
+    const Vertex &qs = light[size_t(s - 1)], &pt = camera[size_t(t - 1)];
+    if (qs.connectible() && pt.connectible() && qs.type == VertexType::Surface && pt.type == VertexType::Surface) {
+      c.L = qs.beta * vertexF(qs, pt, TransportMode::Importance) * vertexF(pt, qs, TransportMode::Radiance) * pt.beta;
+      if (!isBlack(c.L)) c.L *= geometry(scene, qs, pt, rays);
+    }
+  }
+  c.weight = isBlack(c.L) ? 0.f : misWeight(scene, settings.mis, light, camera, sampled, s, t);
+  return c;
+}
+
+}  // namespace lb::bdpt

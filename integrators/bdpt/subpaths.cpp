@@ -1,0 +1,100 @@
+// Camera and light subpaths for BDPT (pbrt-v3 §16.3.2 with Russian roulette).
+#include "integrators/bdpt/bdpt.h"
+
+namespace lb::bdpt {
+
+namespace {
+
+// Extends `path` from index `start` (whose vertex is path[start - 1]) by
+// sampling the BSDF at each hit; returns the number of vertices added.
+int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray ray, Color beta, float pdfFwd,
+               int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays) {
+  if (maxVertices <= 0) return 0;
+  int added = 0;
+  float etaScale = 1;
+  while (true) {
+    SurfaceInteraction si;
+    ++rays;
+    Vertex& prev = path[size_t(start + added - 1)];
+    if (!scene.intersect(ray, si)) {
+      // An escaped camera ray is a vertex on the environment (strategy s = 0).
+      if (mode == TransportMode::Radiance && !scene.infiniteLights().empty()) {
+        path[size_t(start + added)] = escapedVertex(ray, beta, pdfFwd);
+        ++added;
+      }
+      break;
+    }
+    Vertex& v = path[size_t(start + added)];
+    v = surfaceVertex(si, beta);
+    v.pdfFwd = convertDensity(prev, pdfFwd, v);
+    ++added;
+    if (added >= maxVertices || !si.material) break;
+    BSDF bsdf(si);
+    auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), mode);
+    if (!bs) break;
+    beta *= bs->weight;
+    float pdfRev = bs->pdfRev;
+    pdfFwd = bs->pdf;
+    if (bs->isDelta()) {
+      v.delta = true;
+      pdfFwd = pdfRev = 0;
+    }
+    prev.pdfRev = convertDensity(v, pdfRev, prev);
+    if (isBlack(beta)) break;
+    if (mode == TransportMode::Radiance && (bs->lobe & BSDFTransmission)) etaScale *= sqr(bs->eta);
+    ray = si.spawnRay(bs->wi);
+    // Roulette after rr_depth segments of this subpath; not part of the MIS pdfs (vertex.h).
+    if (s.russianRoulette && start + added - 1 >= s.rrDepth) {
+      float survive = std::min(1.f, maxComponent(beta) * etaScale);
+      if (sampler.get1D() >= survive) break;
+      beta /= survive;
+    }
+  }
+  return added;
+}
+
+int maxSegments(const BdptSettings& s) { return s.maxDepth < 0 ? 1 << 20 : s.maxDepth; }
+
+}  // namespace
+
+int generateCameraSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, Vec2 raster,
+                          std::vector<Vertex>& path, uint64_t& rays) {
+  if (maxSegments(s) < 1) return 0;
+  Ray ray = scene.camera.generateRay(raster);
+  path[0] = cameraVertex(scene.camera, Color(1.f));
+  float pdfPos, pdfDir;
+  scene.camera.pdfWe(ray.d, &pdfPos, &pdfDir);
+  // Up to max_depth segments: the camera plus max_depth vertices.
+  return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, maxSegments(s), TransportMode::Radiance, path,
+                        1, rays);
+}
+
+int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, std::vector<Vertex>& path,
+                         uint64_t& rays) {
+  const LightSampler& lights = scene.lightSampler();
+  if (lights.empty() || maxSegments(s) < 1) return 0;
+  float pmf;
+  const Light* light = lights.sample(sampler.get1D(), &pmf);
+  float uPick = sampler.get1D();
+  Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
+  auto e = light->sampleLe(uPick, uPos, uDir);
+  if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) return 0;
+  path[0] = lightVertex(light, e->p, e->n, e->pError, e->Le, e->pdfPos * pmf);
+  float cos = glm::dot(e->n, e->n) > 0 ? absDot(e->n, e->ray.d) : 1.f;
+  Color beta = e->Le * cos / (pmf * e->pdfPos * e->pdfDir);
+  // The light subpath needs at most max_depth vertices (s + t - 1 <= max_depth with t >= 1).
+  int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, maxSegments(s) - 1, TransportMode::Importance,
+                         path, 1, rays);
+  if (light->isInfinite()) {
+    // Lights at infinity: the first hit's density is the disc's (per area),
+    // and the light vertex's own density is per solid angle (pbrt-v3).
+    if (n > 1) {
+      path[1].pdfFwd = e->pdfPos;
+      if (path[1].onSurface()) path[1].pdfFwd *= absDot(e->ray.d, path[1].ng);
+    }
+    path[0].pdfFwd = pdfLightOrigin(scene, path[0], n > 1 ? path[1] : path[0]);
+  }
+  return n;
+}
+
+}  // namespace lb::bdpt

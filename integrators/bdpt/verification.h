@@ -1,0 +1,27 @@
+#pragma once
+// Verification routines for BDPT's bookkeeping (testing.md §4; the idea of
+// Mitsuba 0.6's Path::verify): recompute every density from the BSDFs, lights
+// and camera, and evaluate all strategies' MIS weights for a complete path.
+#include <vector>
+#include "integrators/bdpt/bdpt.h"
+
+namespace lb::bdpt {
+
+struct PdfMismatch {
+  int vertex;
+  bool reverse;
+  float cached, recomputed;
+};
+
+// Compares each vertex's cached pdfFwd (vertices 1…n-1) and pdfRev (0…n-3;
+// n-2's is always recomputed where it is used) with a fresh recomputation.
+std::vector<PdfMismatch> checkSubpathPdfs(const Scene& scene, const std::vector<Vertex>& path, int n, bool lightPath);
+
+// A complete path from the camera (vertex 0) to a light (vertex n-1: a Light
+// vertex or an emitting surface). For every split into s light and t camera
+// vertices (s + t = n) it builds both subpaths with freshly computed
+// densities and returns the MIS weight of (s, t), or -1 where that strategy
+// cannot produce the path (a delta vertex or a delta light at its connection).
+std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std::vector<Vertex>& fullPath);
+
+}  // namespace lb::bdpt

@@ -1,0 +1,142 @@
+#include "integrators/bdpt/vertex.h"
+
+namespace lb::bdpt {
+
+bool Vertex::connectible() const {
+  switch (type) {
+    case VertexType::Camera: return true;
+    case VertexType::Light: return !(infinite && light && light->isDelta());  // not a delta direction
+    case VertexType::Surface: return si.material && !si.material->isDelta();
+  }
+  return false;
+}
+
+Vertex cameraVertex(const Camera& camera, const Color& beta) {
+  Vertex v;
+  v.type = VertexType::Camera;
+  v.p = camera.position();
+  v.beta = beta;
+  return v;
+}
+
+Vertex lightVertex(const Light* light, const Vec3& p, const Vec3& n, const Vec3& pError, const Color& beta, float pdf) {
+  Vertex v;
+  v.type = VertexType::Light;
+  v.light = light;
+  v.p = p, v.ng = n, v.pError = pError;
+  v.beta = beta;
+  v.pdfFwd = pdf;
+  v.infinite = light->isInfinite();
+  return v;
+}
+
+Vertex surfaceVertex(const SurfaceInteraction& si, const Color& beta) {
+  Vertex v;
+  v.type = VertexType::Surface;
+  v.si = si;
+  v.p = si.p, v.ng = si.ng, v.pError = si.pError;
+  v.beta = beta;
+  return v;
+}
+
+Vertex escapedVertex(const Ray& ray, const Color& beta, float pdfSolidAngle) {
+  Vertex v;
+  v.type = VertexType::Light;
+  v.infinite = true;
+  v.escapeDir = ray.d;
+  v.p = ray.o + ray.d;  // a point along the escape direction (only directions matter)
+  v.beta = beta;
+  v.pdfFwd = pdfSolidAngle;
+  return v;
+}
+
+float convertDensity(const Vertex& from, float pdf, const Vertex& to) {
+  if (to.isInfiniteLight()) return pdf;  // densities at infinity stay per solid angle
+  Vec3 w = to.p - from.p;
+  float d2 = glm::dot(w, w);
+  if (d2 == 0) return 0;
+  if (to.onSurface()) pdf *= absDot(to.ng, w / std::sqrt(d2));
+  return pdf / d2;
+}
+
+namespace {
+Vec3 direction(const Vertex& from, const Vertex& to) {
+  if (to.isInfiniteLight() && to.type == VertexType::Light && !to.light) return to.escapeDir;
+  return glm::normalize(to.p - from.p);
+}
+}  // namespace
+
+Color vertexF(const Vertex& v, const Vertex& next, TransportMode mode) {
+  if (v.type != VertexType::Surface || !v.si.material) return Color(0.f);
+  return BSDF(v.si).eval(v.si.wo, direction(v, next), mode).f;
+}
+
+float vertexPdf(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next) {
+  if (v.type == VertexType::Light) return pdfLight(scene, v, next);
+  Vec3 wn = direction(v, next);
+  float pdf;
+  if (v.type == VertexType::Camera) {
+    float pdfPos;
+    scene.camera.pdfWe(wn, &pdfPos, &pdf);
+  } else {
+    if (!v.si.material) return 0;
+    Vec3 wp = prev ? glm::normalize(prev->p - v.p) : v.si.wo;
+    pdf = BSDF(v.si).pdf(wp, wn);
+  }
+  return convertDensity(v, pdf, next);
+}
+
+float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to) {
+  Vec3 w = to.p - v.p;
+  float d2 = glm::dot(w, w);
+  if (d2 == 0) return 0;
+  w /= std::sqrt(d2);
+  float pdf;
+  if (v.isInfiniteLight()) {
+    // Emission from infinity starts on a disc covering the scene: its density
+    // per area is what reaches `to` (no 1/r²).
+    const Light* any = v.light ? v.light : (scene.infiniteLights().empty() ? nullptr : scene.infiniteLights()[0]);
+    if (!any) return 0;
+    float pdfPos, pdfDir;
+    any->pdfLe(v.p, Vec3(0.f), -w, &pdfPos, &pdfDir);
+    pdf = pdfPos;
+  } else {
+    const Light* light = v.emitter();
+    if (!light) return 0;
+    float pdfPos, pdfDir;
+    light->pdfLe(v.p, v.ng, w, &pdfPos, &pdfDir);
+    pdf = pdfDir / d2;
+  }
+  if (to.onSurface()) pdf *= absDot(to.ng, w);
+  return pdf;
+}
+
+float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to) {
+  Vec3 w = glm::normalize(to.p - v.p);
+  const LightSampler& lights = scene.lightSampler();
+  if (v.isInfiniteLight()) {
+    // Any infinite light could have been chosen: sum their solid-angle pdfs
+    // of the direction from `to` towards infinity.
+    float pdf = 0;
+    for (const Light* l : scene.infiniteLights()) pdf += lights.pmf(l) * l->pdfLi(to.p, -w, v.p, Vec3(0.f));
+    return pdf;
+  }
+  const Light* light = v.emitter();
+  if (!light) return 0;
+  float pdfPos, pdfDir;
+  light->pdfLe(v.p, v.ng, w, &pdfPos, &pdfDir);
+  return lights.pmf(light) * pdfPos;
+}
+
+Color emitted(const Scene& scene, const Vertex& v, const Vertex& to) {
+  if (v.isInfiniteLight() && !v.light) {
+    Color L(0.f);
+    for (const Light* l : scene.infiniteLights()) L += l->Le(v.escapeDir);
+    return L;
+  }
+  const Light* light = v.emitter();
+  if (!light) return Color(0.f);
+  return light->L(v.ng, glm::normalize(to.p - v.p));
+}
+
+}  // namespace lb::bdpt

@@ -1,0 +1,60 @@
+#pragma once
+// Path vertices of bidirectional path tracing and their densities, following
+// Veach 1997 ch. 10 and pbrt-v3/v4 (§16.3). Conventions:
+//  * pdfFwd: density of generating this vertex from its predecessor on its own
+//    subpath; pdfRev: density of generating it from its successor, i.e. when
+//    the path is sampled from the other end. Both are per unit AREA (per solid
+//    angle for vertices at infinity, which have no area).
+//  * Delta vertices (specular scattering) store pdfFwd = pdfRev = 0; the MIS
+//    recursion reads a zero as 1 so neighbours' ratios stay correct, and skips
+//    strategies that would connect at a delta vertex.
+//  * Russian roulette does not enter these pdfs: the weights of all strategies
+//    that can generate a path still sum to 1, which keeps every estimator
+//    unbiased (references.md, "BDPT bookkeeping"); roulette only reweights β.
+#include "core/bsdfs/bsdf.h"
+#include "core/scene.h"
+
+namespace lb::bdpt {
+
+enum class VertexType { Camera, Light, Surface };
+
+struct Vertex {
+  VertexType type = VertexType::Surface;
+  Color beta{0.f};        // throughput of the subpath up to and including this vertex
+  bool delta = false;     // sampled a delta lobe here (cannot be connected to)
+  float pdfFwd = 0, pdfRev = 0;
+  Vec3 p{0.f}, ng{0.f}, pError{0.f};
+  SurfaceInteraction si;  // Surface vertices
+  const Light* light = nullptr;  // Light vertices (null for an escaped camera ray)
+  bool infinite = false;  // a light at infinity (environment, directional) or an escaped ray
+  Vec3 escapeDir{0.f};    // escaped camera ray: its direction
+
+  bool onSurface() const { return type == VertexType::Surface || (type == VertexType::Light && glm::dot(ng, ng) > 0); }
+  bool isLight() const { return type == VertexType::Light || (type == VertexType::Surface && si.emitter); }
+  bool isDeltaLight() const { return type == VertexType::Light && light && light->isDelta(); }
+  bool isInfiniteLight() const { return type == VertexType::Light && infinite; }
+  bool connectible() const;
+  const Light* emitter() const { return type == VertexType::Light ? light : si.emitter; }
+  Vec3 shadingNormal() const { return si.shading.n; }
+};
+
+Vertex cameraVertex(const Camera& camera, const Color& beta);
+Vertex lightVertex(const Light* light, const Vec3& p, const Vec3& n, const Vec3& pError, const Color& beta, float pdf);
+Vertex surfaceVertex(const SurfaceInteraction& si, const Color& beta);
+Vertex escapedVertex(const Ray& ray, const Color& beta, float pdfSolidAngle);
+
+// Converts a solid-angle density at `from` towards `to` into area density at `to`.
+float convertDensity(const Vertex& from, float pdf, const Vertex& to);
+// BSDF (or camera) value at v for the directions to prev (where the subpath came
+// from) and next; f includes the adjoint correction in importance mode.
+Color vertexF(const Vertex& v, const Vertex& next, TransportMode mode);
+// Area density of sampling `next` from v, having arrived from `prev`.
+float vertexPdf(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next);
+// Area density of light vertex (or emitting surface) v emitting towards `to`.
+float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to);
+// Density of choosing v's light and sampling v on it (area; solid angle at infinity).
+float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to);
+// Radiance emitted from v towards `to` (area light surface or escaped ray).
+Color emitted(const Scene& scene, const Vertex& v, const Vertex& to);
+
+}  // namespace lb::bdpt

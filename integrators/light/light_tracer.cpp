@@ -1,0 +1,107 @@
+#include "integrators/light/light_tracer.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include "core/bsdfs/bsdf.h"
+
+namespace lb {
+
+LightTracerSettings LightTracerSettings::read(Params& p) {
+  LightTracerSettings s;
+  s.maxDepth = p.getInt("max_depth", 32);
+  if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
+  s.russianRoulette = p.getBool("rr", true);
+  s.rrDepth = p.getInt("rr_depth", 3);
+  if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
+  if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
+  p.checkUnused();
+  return s;
+}
+
+namespace {
+// Paths per work item: fixed, so the merge order does not depend on threads.
+constexpr size_t PathsPerChunk = 1024;
+}  // namespace
+
+void LightTracer::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
+                             PassStats& stats) {
+  size_t paths = size_t(film.width()) * film.height();
+  size_t chunks = (paths + PathsPerChunk - 1) / PathsPerChunk;
+  std::vector<std::vector<Splat>> splats(chunks);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& range) {
+    auto sampler = prototype.clone();
+    uint64_t rays = 0;
+    for (size_t c = range.begin(); c != range.end(); ++c)
+      for (size_t i = c * PathsPerChunk; i < std::min(paths, (c + 1) * PathsPerChunk); ++i) {
+        sampler->start(i, pass);
+        tracePath(scene, *sampler, splats[c], rays);
+      }
+    stats.rays += rays;
+  });
+  PassImage image(film.width(), film.height());
+  for (const auto& chunk : splats)
+    for (const Splat& s : chunk) image.addAtRaster(s.raster, s.value, pass, film);
+  film.addPass(image);
+}
+
+void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Splat>& splats, uint64_t& rays) const {
+  const LightSampler& lights = scene.lightSampler();
+  const Camera& camera = scene.camera;
+  if (lights.empty()) return;
+  int maxDepth = settings_.maxDepth < 0 ? 1 << 30 : settings_.maxDepth;
+  if (maxDepth < 1) return;
+  float pmf;
+  const Light* light = lights.sample(sampler.get1D(), &pmf);
+  float uPick = sampler.get1D();
+  Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
+  auto e = light->sampleLe(uPick, uPos, uDir);
+  if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) return;
+  bool pointLike = glm::dot(e->n, e->n) == 0;
+
+  // s = 1, t = 1: the point on an area light seen directly by the camera.
+  if (!light->isDelta() && !light->isInfinite()) {
+    if (auto c = camera.connect(e->p)) {
+      Color Le = light->L(e->n, c->wi);
+      float cos = absDot(e->n, c->wi);
+      if (!isBlack(Le) && cos > 0) {
+        ++rays;
+        Vec3 from = offsetRayOrigin(e->p, e->pError, e->n, c->wi);
+        if (!scene.occluded({from, c->pinhole - from, 1 - ShadowEpsilon}))
+          splats.push_back({c->raster, Le * cos * (c->We / c->pdf) / (pmf * e->pdfPos)});
+      }
+    }
+  }
+
+  Color beta = e->Le * (pointLike ? 1.f : absDot(e->n, e->ray.d)) / (pmf * e->pdfPos * e->pdfDir);
+  Ray ray = e->ray;
+  for (int segments = 1;; ++segments) {
+    SurfaceInteraction si;
+    ++rays;
+    if (!scene.intersect(ray, si) || !si.material) break;
+    BSDF bsdf(si);
+    // Connect this vertex to the camera: a path of segments + 1 segments.
+    if (!bsdf.isDelta() && segments + 1 <= maxDepth) {
+      if (auto c = camera.connect(si.p)) {
+        BSDFEval f = bsdf.eval(si.wo, c->wi, TransportMode::Importance);
+        Color contribution = beta * f.f * absDot(c->wi, bsdf.shadingNormal()) * (c->We / c->pdf);
+        if (!isBlack(contribution)) {
+          ++rays;
+          if (!scene.occluded(si.spawnRayTo(c->pinhole, Vec3(0.f), Vec3(0.f))))
+            splats.push_back({c->raster, contribution});
+        }
+      }
+    }
+    if (segments + 1 > maxDepth) break;  // no longer path can reach the camera
+    auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Importance);
+    if (!bs) break;
+    beta *= bs->weight;
+    if (isBlack(beta)) break;
+    ray = si.spawnRay(bs->wi);
+    if (settings_.russianRoulette && segments >= settings_.rrDepth) {
+      float survive = std::min(1.f, maxComponent(beta));
+      if (sampler.get1D() >= survive) break;
+      beta /= survive;
+    }
+  }
+}
+
+}  // namespace lb

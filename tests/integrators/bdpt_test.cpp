@@ -1,0 +1,134 @@
+// BDPT bookkeeping (testing.md §4): MIS weights of all strategies sum to 1 on
+// random paths (delta BSDFs, delta lights, both heuristics and uniform), and
+// cached subpath densities equal a fresh recomputation.
+#include <gtest/gtest.h>
+#include "core/sampler.h"
+#include "integrators/bdpt/verification.h"
+#include "tests/support/render_helpers.h"
+
+namespace lb::test {
+namespace {
+
+using bdpt::Vertex;
+
+BdptSettings settings(int maxDepth) {
+  BdptSettings s;
+  s.maxDepth = maxDepth;
+  s.russianRoulette = false;
+  return s;
+}
+
+// Weights are products and sums of at most 2n float ratios, each rounded
+// once: their sum is 1 up to about 4n ulp of float; 16n leaves headroom.
+double sumTolerance(size_t n) { return 16.0 * double(n) * std::numeric_limits<float>::epsilon(); }
+
+void expectWeightsSumToOne(const Scene& scene, const std::vector<Vertex>& path, const char* what) {
+  for (MisWeighting h : {MisWeighting::Balance, MisWeighting::Power, MisWeighting::Uniform}) {
+    auto w = bdpt::strategyWeights(scene, h, path);
+    double sum = 0;
+    int possible = 0;
+    for (float x : w)
+      if (x >= 0) sum += x, ++possible;
+    ASSERT_GE(possible, 1) << what;
+    ASSERT_NEAR(sum, 1.0, sumTolerance(path.size())) << what << ", length " << path.size() - 1 << ", heuristic "
+                                                     << int(h);
+  }
+}
+
+TEST(Bdpt, MisWeightsSumToOneOnPathsEndingOnAreaLights) {
+  // Cornell box with mirror and glass spheres: random camera subpaths, cut at
+  // their first emitter hit, through delta and diffuse vertices.
+  SceneFile sf = loadShippedScene("cornell-box-spheres", 32, 32);
+  const Scene& scene = *sf.scene;
+  IndependentSampler sampler(5);
+  std::vector<Vertex> camera(12);
+  uint64_t rays = 0;
+  int checked = 0, withDelta = 0;
+  for (uint64_t i = 0; checked < 300 && i < 200000; ++i) {
+    sampler.start(i, 0);
+    int n = bdpt::generateCameraSubpath(scene, sampler, settings(10), Vec2(sampler.get1D() * 32, sampler.get1D() * 32),
+                                        camera, rays);
+    for (int k = 1; k < n; ++k)
+      if (camera[size_t(k)].isLight()) {
+        std::vector<Vertex> path(camera.begin(), camera.begin() + k + 1);
+        bool delta = false;
+        for (const auto& v : path) delta |= v.delta;
+        withDelta += delta;
+        expectWeightsSumToOne(scene, path, "area light");
+        ++checked;
+        break;
+      }
+  }
+  EXPECT_EQ(checked, 300);
+  EXPECT_GT(withDelta, 10);  // the sample really includes specular chains
+}
+
+TEST(Bdpt, MisWeightsSumToOneOnPathsFromAPointLight) {
+  // Light subpaths from a point light (a delta light: s = 0 cannot sample
+  // them), joined to the camera where their last vertex is in view.
+  SceneFile sf = loadShippedScene("point-light", 32, 24);
+  const Scene& scene = *sf.scene;
+  IndependentSampler sampler(6);
+  std::vector<Vertex> light(10);
+  uint64_t rays = 0;
+  int checked = 0;
+  for (uint64_t i = 0; checked < 300 && i < 200000; ++i) {
+    sampler.start(i, 0);
+    int n = bdpt::generateLightSubpath(scene, sampler, settings(10), light, rays);
+    if (n < 2) continue;
+    int last = 1 + int(sampler.get1D() * float(n - 1));  // a random prefix y0 … y(last)
+    if (!scene.camera.connect(light[size_t(last)].p)) continue;
+    std::vector<Vertex> path = {bdpt::cameraVertex(scene.camera, Color(1.f))};
+    for (int k = last; k >= 0; --k) path.push_back(light[size_t(k)]);
+    expectWeightsSumToOne(scene, path, "point light");
+    ++checked;
+  }
+  EXPECT_EQ(checked, 300);
+}
+
+// The cached density used the sampled direction, leaving the ray's offset
+// origin; the recomputation uses the direction between the stored vertices.
+// They differ by an angle of about the offset over the segment length,
+// ε = γ(7)(|a| + |b|)/d (the error bound the offsets come from), which a
+// cosine-shaped density turns into a relative error of ε(1 + tanθ) at the
+// sampling vertex. The bound: relative 1e-3 (glossy lobes' slope times float
+// rounding) plus 64 times that conditioning term.
+float tolerance(const std::vector<Vertex>& path, const bdpt::PdfMismatch& m) {
+  int from = m.reverse ? m.vertex + 1 : m.vertex - 1;  // where the direction was sampled
+  const Vertex &a = path[size_t(from)], &b = path[size_t(m.vertex)];
+  float d = glm::length(b.p - a.p);
+  float eps = gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(b.p))) / std::max(d, 1e-30f);
+  float cos = a.type == bdpt::VertexType::Surface ? absDot(a.shadingNormal(), (b.p - a.p) / d) : 1.f;
+  float tan = std::sqrt(std::max(0.f, 1 - cos * cos)) / std::max(cos, 1e-6f);
+  return 1e-3f + 64 * eps * (1 + tan);
+}
+
+TEST(Bdpt, CachedDensitiesEqualRecomputation) {
+  // The random walks' pdfFwd/pdfRev against the same densities recomputed
+  // from the BSDFs, lights and camera at the stored vertices.
+  for (std::string name : {"cornell-box-spheres", "veach-mis"}) {
+    SceneFile sf = loadShippedScene(name, 32, 32);
+    IndependentSampler sampler(9);
+    std::vector<Vertex> path(12);
+    uint64_t rays = 0;
+    int compared = 0;
+    for (uint64_t i = 0; i < 2000; ++i) {
+      for (bool lightPath : {false, true}) {
+        sampler.start(i, lightPath);
+        int n = lightPath ? bdpt::generateLightSubpath(*sf.scene, sampler, settings(10), path, rays)
+                          : bdpt::generateCameraSubpath(*sf.scene, sampler, settings(10),
+                                                        Vec2(sampler.get1D() * 32, sampler.get1D() * 32), path, rays);
+        for (const auto& m : bdpt::checkSubpathPdfs(*sf.scene, path, n, lightPath)) {
+          ++compared;
+          ASSERT_NEAR(m.cached, m.recomputed, tolerance(path, m) * std::max(m.cached, m.recomputed) + 1e-30f)
+              << name << (lightPath ? " light" : " camera") << " subpath, vertex " << m.vertex
+              << (m.reverse ? " pdfRev" : " pdfFwd");
+        }
+      }
+    }
+    EXPECT_GT(compared, 2000) << name;
+  }
+}
+
+}  // namespace
+}  // namespace lb::test

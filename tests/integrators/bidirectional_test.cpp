@@ -1,0 +1,151 @@
+// Light tracing and BDPT against the path tracer (testing.md §3–4): per-region
+// z-tests with variances from the films, Šidák-corrected; analytic radiance;
+// the shading-normal adjoint; per-strategy images; determinism.
+#include <gtest/gtest.h>
+#include <cstring>
+#include <fstream>
+#include "integrators/bdpt/bdpt.h"
+#include "integrators/render_loop.h"
+#include "tests/support/render_helpers.h"
+
+namespace lb::test {
+namespace {
+
+constexpr double Alpha = 0.01;
+
+struct Case {
+  std::string scene;
+  int width, height;
+  uint64_t pathSpp, lightSpp, bdptSpp;
+};
+
+// BDPT against PT everywhere; LT against BDPT on pixels whose primary hit is
+// diffuse. Why there: LT cannot sample L…S E paths (a specular surface seen
+// through the pinhole), and through a near-specular lobe (Veach's α = 0.005
+// plate) its connections are so heavy-tailed that the sample variance
+// understates the true one; PT in turn finds caustics (the mirror sphere's on
+// the red wall) only by chance. BDPT, which contains both, is the fair
+// reference for LT. max_depth 8 for all: long enough for the glass sphere's
+// caustic (L S S D E needs 4 segments) and several interreflections.
+void expectAgreement(const Case& c) {
+  SceneFile sf = loadShippedScene(c.scene, c.width, c.height);
+  auto pt = renderScene(sf, {"path", "{max_depth: 8}", c.pathSpp, 101});
+  auto lt = renderScene(sf, {"light", "{max_depth: 8}", c.lightSpp, 102});
+  auto bd = renderScene(sf, {"bdpt", "{max_depth: 8}", c.bdptSpp, 103});
+  std::vector<bool> mask = diffusePrimaryHits(*sf.scene);
+  EXPECT_EQ(compareRegions(regionMeans(*lt, 4, 4, &mask), regionMeans(*bd, 4, 4, &mask), Alpha / 2), "")
+      << c.scene << ": light tracing vs BDPT";
+  EXPECT_EQ(compareRegions(regionMeans(*bd, 4, 4), regionMeans(*pt, 4, 4), Alpha / 2), "")
+      << c.scene << ": BDPT vs path tracing";
+  EXPECT_EQ(lt->nonFiniteCount() + bd->nonFiniteCount(), 0u);
+}
+
+TEST(Bidirectional, AgreeOnDiffuseCornellBox) { expectAgreement({"cornell-box", 32, 32, 512, 512, 256}); }
+TEST(Bidirectional, AgreeOnCornellBoxWithMirrorAndGlassSpheres) {
+  expectAgreement({"cornell-box-spheres", 32, 32, 1024, 512, 256});
+}
+TEST(Bidirectional, AgreeOnVeachMisScene) { expectAgreement({"veach-mis", 40, 25, 1024, 1024, 512}); }
+// With a point light the path tracer cannot sample paths whose last bounce
+// before the light is delta (L S … E: a mirror seen from the light); this
+// scene has no delta surface, so all three estimate the same image.
+TEST(Bidirectional, AgreeOnPointLightScene) { expectAgreement({"point-light", 32, 24, 512, 512, 256}); }
+
+TEST(LightTracer, PointLightOverDiffusePlaneIsAnalytic) {
+  std::string scene = "camera: {position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, -1], fov: 40}\n"
+                      "film: {width: 16, height: 16}\n"
+                      "materials: {m: {type: diffuse, albedo: 0.5}}\n"
+                      "shapes: [{type: rectangle, material: m, transform: {scale: 10, rotate_x: -90}}]\n"
+                      "lights: [{type: point, position: [0.3, 2, 0.2], intensity: 10}]\n";
+  SceneFile sf = loadSceneFromString(scene, "point-plane.yaml");
+  auto film = renderScene(sf, {"light", "{max_depth: 2}", 256, 4});
+  EXPECT_TRUE(meanMatches(*film, pointLightOverPlane(sf.scene->camera, Vec3(0.3f, 2, 0.2f), 10, 0.5f), Alpha));
+}
+
+TEST(LightTracer, AgreesWithPathTracingUnderShadingNormals) {
+  // A smooth-shaded low-poly sphere: shading normals differ from geometric
+  // ones by up to ~20°, so the adjoint correction (Veach §5.3) matters.
+  std::string dir = ::testing::TempDir();
+  {
+    std::ofstream obj(dir + "/lowpoly.obj");
+    const int rings = 4, segments = 8;
+    obj << "v 0 1 0\n";
+    for (int r = 1; r < rings; ++r)
+      for (int s = 0; s < segments; ++s) {
+        float th = Pi * r / rings, ph = 2 * Pi * s / segments;
+        obj << "v " << std::sin(th) * std::cos(ph) << " " << std::cos(th) << " " << std::sin(th) * std::sin(ph) << "\n";
+      }
+    obj << "v 0 -1 0\n";
+    int bottom = 2 + (rings - 1) * segments;
+    for (int s = 0; s < segments; ++s) obj << "f 1 " << 2 + (s + 1) % segments << " " << 2 + s << "\n";
+    for (int r = 0; r < rings - 2; ++r)
+      for (int s = 0; s < segments; ++s) {
+        int a = 2 + r * segments + s, b = 2 + r * segments + (s + 1) % segments;
+        obj << "f " << a << " " << b << " " << b + segments << "\nf " << a << " " << b + segments << " " << a + segments << "\n";
+      }
+    for (int s = 0; s < segments; ++s) {
+      int a = 2 + (rings - 2) * segments + s, b = 2 + (rings - 2) * segments + (s + 1) % segments;
+      obj << "f " << a << " " << b << " " << bottom << "\n";
+    }
+  }
+  std::string scene = "camera: {position: [0, 1.2, 3.5], look_at: [0, 0.6, 0], fov: 35}\n"
+                      "film: {width: 32, height: 32}\n"
+                      "materials: {m: {type: diffuse, albedo: 0.8}, floor: {type: diffuse, albedo: 0.5}}\n"
+                      "shapes:\n"
+                      "  - {type: rectangle, material: floor, transform: {scale: 4, rotate_x: -90}}\n"
+                      "  - {type: mesh, file: lowpoly.obj, smooth_normals: true, material: m, transform: {scale: 0.7, translate: [0, 0.7, 0]}}\n"
+                      "  - {type: rectangle, material: none, emission: 8, transform: {scale: 0.5, rotate_x: 90, translate: [0.5, 2.5, 1]}}\n";
+  SceneFile sf = loadSceneFromString(scene, dir + "/shading-normals.yaml");
+  auto pt = renderScene(sf, {"path", "{max_depth: 6}", 1024, 11});
+  auto lt = renderScene(sf, {"light", "{max_depth: 6}", 1024, 12});
+  EXPECT_EQ(compareRegions(regionMeans(*lt, 4, 4), regionMeans(*pt, 4, 4), Alpha), "");
+}
+
+TEST(Bdpt, UnweightedStrategiesAreUnbiasedWhereTheyApply) {
+  // Direct light only (paths of exactly 2 segments): NEE (s=1,t=2) and light
+  // tracing (s=2,t=1) can each sample all of them in the diffuse Cornell box;
+  // each unweighted image must match PT(max_depth 2) − PT(max_depth 1).
+  SceneFile sf = loadShippedScene("cornell-box", 24, 24);
+  auto pt2 = renderScene(sf, {"path", "{max_depth: 2}", 1024, 21});
+  auto pt1 = renderScene(sf, {"path", "{max_depth: 1}", 64, 22});
+  RegionMeans a = regionMeans(*pt2, 3, 3), b = regionMeans(*pt1, 3, 3), direct = a;
+  for (size_t i = 0; i < a.mean.size(); ++i)
+    direct.mean[i] = a.mean[i] - b.mean[i], direct.varianceOfMean[i] = a.varianceOfMean[i] + b.varianceOfMean[i];
+
+  BdptSettings s;
+  s.maxDepth = 2;
+  s.strategyImages = 2;
+  Bdpt bdpt(s);
+  Film film(24, 24);
+  RenderOptions o;
+  o.seed = 23;
+  o.budget.spp = 1024;
+  renderLoop(*sf.scene, bdpt, film, sf.sampler, o);
+  for (auto [sCount, tCount] : {std::pair{1, 2}, std::pair{2, 1}}) {
+    const Film* raw = bdpt.strategyFilm(sCount, tCount, false);
+    ASSERT_NE(raw, nullptr);
+    EXPECT_EQ(compareRegions(regionMeans(*raw, 3, 3), direct, Alpha / 2), "") << "s=" << sCount << " t=" << tCount;
+  }
+  // The weighted strategy images of length 2 add up to BDPT's length-2 part,
+  // and BDPT's image is their sum over lengths 1 and 2: check the total.
+  Image total(24, 24);
+  for (auto [sCount, tCount] : {std::pair{0, 2}, std::pair{0, 3}, std::pair{1, 2}, std::pair{2, 1}}) {
+    Image w = bdpt.strategyFilm(sCount, tCount, true)->image();
+    for (size_t i = 0; i < total.pixels.size(); ++i) total.pixels[i] += w.pixels[i];
+  }
+  Image full = film.image();
+  for (size_t i = 0; i < total.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)  // the same contributions summed in another order: rounding only
+      ASSERT_NEAR(total.pixels[i][c], full.pixels[i][c], 1e-5f * (1 + full.pixels[i][c]));
+}
+
+TEST(Bidirectional, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
+  SceneFile sf = loadShippedScene("cornell-box-spheres", 40, 40);
+  for (std::string integrator : {"light", "bdpt"}) {
+    Image one = renderScene(sf, {integrator, "{}", 4, 42, 1})->image();
+    Image two = renderScene(sf, {integrator, "{}", 4, 42, 2})->image();
+    EXPECT_EQ(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Color)), 0) << integrator;
+  }
+}
+
+}  // namespace
+}  // namespace lb::test
