@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <atomic>
+#include <map>
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
@@ -99,6 +100,33 @@ void PathTracer(benchmark::State& state) {
   }
   state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
 }
+
+// Paths per second (one path = one pixel sample or one light path) and rays
+// per second of every integrator, on the Cornell box and on the caustic scene.
+void Integrator(benchmark::State& state, const char* integrator, const char* scene) {
+  static std::map<std::string, SceneFile> scenes;
+  if (!scenes.count(scene)) scenes.emplace(scene, test::loadShippedScene(scene, 128, 128));
+  const SceneFile& sf = scenes.at(scene);
+  Params params(YAML::Load("{}"), "", "integrator");
+  auto integ = makeIntegrator(integrator, params);
+  uint64_t rays = 0, paths = 0, pass = 0;
+  for (auto _ : state) {
+    Film film(128, 128);
+    RenderOptions options;
+    options.seed = pass++;
+    options.budget.spp = 4;
+    rays += renderLoop(*sf.scene, *integ, film, sf.sampler, options).rays;
+    paths += 4 * 128 * 128;
+  }
+  state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+  state.counters["paths/s"] = benchmark::Counter(double(paths), benchmark::Counter::kIsRate);
+}
+BENCHMARK_CAPTURE(Integrator, path_cornell, "path", "cornell-box")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(Integrator, light_cornell, "light", "cornell-box")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(Integrator, bdpt_cornell, "bdpt", "cornell-box")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(Integrator, path_caustic, "path", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(Integrator, light_caustic, "light", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(Integrator, bdpt_caustic, "bdpt", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
