@@ -7,14 +7,9 @@ namespace lb {
 
 BdptSettings BdptSettings::read(Params& p) {
   BdptSettings s;
-  s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
+  s.length = PathLength::read(p);
   std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"});
   s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
-  s.russianRoulette = p.getBool("rr", true);
-  s.rrDepth = p.getInt("rr_depth", 3);
-  if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
-  if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
   s.strategyImages = p.getInt("strategy_images", 0);
   if (s.strategyImages < 0 || s.strategyImages > 8) p.fail("strategy_images", "must be in [0, 8] (path length in segments)");
   p.checkUnused();
@@ -54,7 +49,8 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   std::vector<std::vector<Splat>> splats(size_t(tilesX * tilesY));
   std::vector<std::vector<StrategySplat>> strategySplats(size_t(tilesX * tilesY));
   PassImage image(W, H);
-  int maxSeg = settings_.maxDepth < 0 ? 1 << 20 : settings_.maxDepth;
+  int maxSeg = settings_.length.maxSegments();
+  // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays.
   size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1, lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {

@@ -10,14 +10,15 @@
 // produced the same path, computed in time linear in its length by the
 // pdf-ratio recursion (pbrt-v3 §16.3.4, MISWeight).
 //
-//   max_depth        32      path length in segments, as in `path` and `light`
+//   max_depth, rr, rr_depth  path length in segments and roulette on both
+//                            subpaths (path_length.h), as in `path` and `light`
 //   mis              power   power (β = 2) | balance | uniform (1 / number of strategies)
-//   rr, rr_depth     true, 3 Russian roulette on both subpaths
 //   strategy_images  0       write weighted and unweighted images of every (s, t)
 //                            with s + t - 1 <= this length (0: none)
 #include <memory>
 #include <vector>
 #include "core/params.h"
+#include "integrators/path_length.h"
 #include "integrators/bdpt/vertex.h"
 #include "integrators/integrator.h"
 
@@ -26,10 +27,8 @@ namespace lb {
 enum class MisWeighting { Balance, Power, Uniform };
 
 struct BdptSettings {
-  int maxDepth = 32;
+  PathLength length;
   MisWeighting mis = MisWeighting::Power;
-  bool russianRoulette = true;
-  int rrDepth = 3;
   int strategyImages = 0;
   static BdptSettings read(Params& p);
 };

@@ -44,7 +44,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
     if (mode == TransportMode::Radiance && (bs->lobe & BSDFTransmission)) etaScale *= sqr(bs->eta);
     ray = si.spawnRay(bs->wi);
     // Roulette after rr_depth segments of this subpath; not part of the MIS pdfs (vertex.h).
-    if (s.russianRoulette && start + added - 1 >= s.rrDepth) {
+    if (s.length.russianRoulette && start + added - 1 >= s.length.rrDepth) {
       float survive = std::min(1.f, maxComponent(beta) * etaScale);
       if (sampler.get1D() >= survive) break;
       beta /= survive;
@@ -53,7 +53,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
   return added;
 }
 
-int maxSegments(const BdptSettings& s) { return s.maxDepth < 0 ? 1 << 20 : s.maxDepth; }
+int maxSegments(const BdptSettings& s) { return s.length.maxSegments(); }
 
 }  // namespace
 
@@ -64,9 +64,11 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const BdptSettin
   path[0] = cameraVertex(scene.camera, Color(1.f));
   float pdfPos, pdfDir;
   scene.camera.pdfWe(ray.d, &pdfPos, &pdfDir);
-  // Up to max_depth segments: the camera plus max_depth vertices.
-  return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, maxSegments(s), TransportMode::Radiance, path,
-                        1, rays);
+  // Up to max_depth segments: the camera plus max_depth vertices (and never
+  // past the caller's array, which caps "unlimited" depth).
+  int room = int(path.size()) - 1;
+  return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, std::min(maxSegments(s), room),
+                        TransportMode::Radiance, path, 1, rays);
 }
 
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, std::vector<Vertex>& path,
@@ -83,8 +85,8 @@ int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSetting
   float cos = glm::dot(e->n, e->n) > 0 ? absDot(e->n, e->ray.d) : 1.f;
   Color beta = e->Le * cos / (pmf * e->pdfPos * e->pdfDir);
   // The light subpath needs at most max_depth vertices (s + t - 1 <= max_depth with t >= 1).
-  int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, maxSegments(s) - 1, TransportMode::Importance,
-                         path, 1, rays);
+  int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, std::min(maxSegments(s) - 1, int(path.size()) - 1),
+                         TransportMode::Importance, path, 1, rays);
   if (light->isInfinite()) {
     // Lights at infinity: the first hit's density is the disc's (per area),
     // and the light vertex's own density is per solid angle (pbrt-v3).

@@ -7,12 +7,7 @@ namespace lb {
 
 LightTracerSettings LightTracerSettings::read(Params& p) {
   LightTracerSettings s;
-  s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
-  s.russianRoulette = p.getBool("rr", true);
-  s.rrDepth = p.getInt("rr_depth", 3);
-  if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
-  if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
+  s.length = PathLength::read(p);
   p.checkUnused();
   return s;
 }
@@ -47,7 +42,7 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
   const LightSampler& lights = scene.lightSampler();
   const Camera& camera = scene.camera;
   if (lights.empty()) return;
-  int maxDepth = settings_.maxDepth < 0 ? 1 << 30 : settings_.maxDepth;
+  int maxDepth = settings_.length.maxSegments();
   if (maxDepth < 1) return;
   float pmf;
   const Light* light = lights.sample(sampler.get1D(), &pmf);
@@ -96,7 +91,7 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
     beta *= bs->weight;
     if (isBlack(beta)) break;
     ray = si.spawnRay(bs->wi);
-    if (settings_.russianRoulette && segments >= settings_.rrDepth) {
+    if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
       float survive = std::min(1.f, maxComponent(beta));
       if (sampler.get1D() >= survive) break;
       beta /= survive;

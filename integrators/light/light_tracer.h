@@ -6,21 +6,19 @@
 // β·f·|cos|·We/p at the raster position. Paths continue by importance-mode BSDF
 // sampling with Russian roulette.
 //
-//   max_depth  32    path length in segments, camera connection included (as in `path`)
-//   rr         true  Russian roulette on the throughput
-//   rr_depth   3     segments before roulette may start
+//   max_depth, rr, rr_depth   path length in segments, camera connection
+//                             included, and roulette (path_length.h)
 //
 // Cannot see: emitters through delta chains ending at the camera (L…S E),
 // point and spot lights themselves, and a directly visible environment.
 #include "core/params.h"
+#include "integrators/path_length.h"
 #include "integrators/integrator.h"
 
 namespace lb {
 
 struct LightTracerSettings {
-  int maxDepth = 32;
-  bool russianRoulette = true;
-  int rrDepth = 3;
+  PathLength length;
   static LightTracerSettings read(Params& p);
 };
 

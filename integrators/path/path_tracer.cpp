@@ -13,12 +13,7 @@ PathTracerSettings PathTracerSettings::read(Params& p) {
   s.nee = p.getBool("nee", true);
   std::string mis = p.getChoice("mis", "power", {"power", "balance", "none"});
   s.mis = mis == "power" ? MisHeuristic::Power : mis == "balance" ? MisHeuristic::Balance : MisHeuristic::None;
-  s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
-  s.russianRoulette = p.getBool("rr", true);
-  s.rrDepth = p.getInt("rr_depth", 3);
-  if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
-  if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
+  s.length = PathLength::read(p);
   p.checkUnused();
   return s;
 }
@@ -71,7 +66,7 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
   float prevPdf = 0;         // solid-angle pdf of the direction that generated `ray`
   Vec3 prevPoint = ray.o;
   const LightSampler& lights = scene.lightSampler();
-  int maxDepth = settings_.maxDepth < 0 ? 1 << 30 : settings_.maxDepth;
+  int maxDepth = settings_.length.maxSegments();
 
   for (int segments = 1; segments <= maxDepth; ++segments) {
     SurfaceInteraction si;
@@ -150,7 +145,7 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
     ray = si.spawnRay(wi);
 
     // Russian roulette (pbrt-v4 §13.4): survive with probability min(1, max β·η²).
-    if (settings_.russianRoulette && segments >= settings_.rrDepth) {
+    if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
       float survive = std::min(1.f, maxComponent(beta) * etaScale);
       if (survive < 1) {
         if (sampler.get1D() >= survive) break;

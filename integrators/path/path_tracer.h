@@ -5,13 +5,12 @@
 //   sampling   bsdf | cosine | uniform   how non-delta bounces choose directions
 //   nee        true | false              next-event estimation (one light sample per vertex)
 //   mis        power | balance | none    how NEE and emitter hits are combined
-//   max_depth  32                        path length in segments (camera ray = 1); -1: unlimited
-//   rr         true                      Russian roulette on the path throughput
-//   rr_depth   3                         segments before roulette may start
+//   max_depth, rr, rr_depth              path length and roulette (path_length.h)
 //
 // With nee on and mis none, emitters hit after a non-delta bounce are ignored
 // (pure NEE); with nee off, only hits count, so delta lights are invisible.
 #include "core/params.h"
+#include "integrators/path_length.h"
 #include "integrators/integrator.h"
 
 namespace lb {
@@ -23,9 +22,7 @@ struct PathTracerSettings {
   DirectionSampling sampling = DirectionSampling::Bsdf;
   bool nee = true;
   MisHeuristic mis = MisHeuristic::Power;
-  int maxDepth = 32;
-  bool russianRoulette = true;
-  int rrDepth = 3;
+  PathLength length;
 
   static PathTracerSettings read(Params& p);
 };

@@ -13,8 +13,8 @@ using bdpt::Vertex;
 
 BdptSettings settings(int maxDepth) {
   BdptSettings s;
-  s.maxDepth = maxDepth;
-  s.russianRoulette = false;
+  s.length.maxDepth = maxDepth;
+  s.length.russianRoulette = false;
   return s;
 }
 

@@ -146,7 +146,7 @@ TEST(Bdpt, UnweightedStrategiesAreUnbiasedWhereTheyApply) {
     direct.mean[i] = a.mean[i] - b.mean[i], direct.varianceOfMean[i] = a.varianceOfMean[i] + b.varianceOfMean[i];
 
   BdptSettings s;
-  s.maxDepth = 2;
+  s.length.maxDepth = 2;
   s.strategyImages = 2;
   Bdpt bdpt(s);
   Film film(24, 24);
