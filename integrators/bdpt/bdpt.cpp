@@ -71,8 +71,12 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
               int segments = s + t - 1;
               if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
               bdpt::Connection c = bdpt::connect(scene, *sampler, settings_, light, camera, s, t, rays);
-              if (isBlack(c.L)) continue;
+              if (isBlack(c.L) || c.weight == 0) continue;
               Color weighted = c.L * c.weight;
+              if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
+                film.recordNonFinite(x, y, pass);
+                continue;
+              }
               if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
               else L += weighted;
               int k = strategies_.empty() ? -1 : strategyIndex(s, t);

@@ -55,7 +55,9 @@ std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std
     recompute(scene, light, true);
     bool possible;
     if (s == 0) possible = end.isLight() && !(end.type == VertexType::Light && end.light && end.light->isDelta());
-    else possible = camera.back().connectible() && !camera.back().delta && light.back().connectible() && !light.back().delta;
+    else
+      possible = camera.back().connectible() && !camera.back().delta &&
+                 (s == 1 || (light.back().connectible() && !light.back().delta));  // s = 1 samples the light itself
     if (s == 1 && t == 1) possible = false;  // never used (pbrt-v3): s = 0, t = 2 covers it
     if (!possible) {
       weights.push_back(-1);

@@ -89,6 +89,7 @@ float vertexPdf(const Scene& scene, const Vertex& v, const Vertex* prev, const V
 float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to) {
   Vec3 w = to.p - v.p;
   float d2 = glm::dot(w, w);
+  if (v.isInfiniteLight() && !v.light) w = -v.escapeDir, d2 = 1;  // escaped ray: only its direction exists
   if (d2 == 0) return 0;
   w /= std::sqrt(d2);
   float pdf;
@@ -112,7 +113,7 @@ float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to) {
 }
 
 float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to) {
-  Vec3 w = glm::normalize(to.p - v.p);
+  Vec3 w = v.isInfiniteLight() && !v.light ? -v.escapeDir : glm::normalize(to.p - v.p);
   const LightSampler& lights = scene.lightSampler();
   if (v.isInfiniteLight()) {
     // Any infinite light could have been chosen: sum their solid-angle pdfs
