@@ -2,6 +2,7 @@
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/light/light_tracer.h"
 #include "integrators/path/path_tracer.h"
+#include "integrators/photon/photon_integrator.h"
 
 namespace lb {
 
@@ -13,6 +14,8 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }},
       {"bdpt", "bidirectional path tracing, every (s,t) strategy, MIS balance/power/uniform",
        [](Params& p) { return std::make_unique<Bdpt>(BdptSettings::read(p)); }},
+      {"photon", "photon mapping: caustic + global maps (FLANN kd-tree), NEE, final gathering",
+       [](Params& p) { return std::make_unique<PhotonMapper>(PhotonSettings::read(p)); }},
   };
   return table;
 }

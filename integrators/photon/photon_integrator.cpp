@@ -1,0 +1,191 @@
+#include "integrators/photon/photon_integrator.h"
+#include <iostream>
+#include "core/bsdfs/bsdf.h"
+#include "integrators/photon/photon_tracing.h"
+
+namespace lb {
+
+PhotonSettings PhotonSettings::read(Params& p) {
+  PhotonSettings s;
+  int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
+  if (global < 0) p.fail("global_photons", "must not be negative");
+  if (caustic < 0) p.fail("caustic_photons", "must not be negative");
+  s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
+  int k = p.getInt("k", 30);
+  if (k < 1) p.fail("k", "must be at least 1");
+  s.query.k = size_t(k);
+  s.maxRadius = p.getFloat("max_radius", 0);
+  if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
+  std::string filter = p.getChoice("filter", "cone", {"cone", "epanechnikov", "box"});
+  s.query.filter = filter == "cone" ? PhotonFilter::Cone : filter == "box" ? PhotonFilter::Box : PhotonFilter::Epanechnikov;
+  s.finalGather = p.getInt("final_gather", 8);
+  if (s.finalGather < 0) p.fail("final_gather", "must not be negative");
+  s.maxDepth = p.getInt("max_depth", 32);
+  if (s.maxDepth < 1) p.fail("max_depth", "must be at least 1");
+  s.densityImages = p.getBool("density_images", false);
+  s.stats = p.getBool("stats", false);
+  p.checkUnused();
+  return s;
+}
+
+PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int maxBounces, bool causticOnly,
+                         uint64_t* rays) {
+  size_t chunks = (paths + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
+  std::vector<std::vector<Photon>> perChunk(chunks);
+  uint64_t traced = tracePhotons(scene, seed, causticOnly ? 1 : 0, paths, maxBounces, [&](size_t c, const PhotonHit& h) {
+    if (causticOnly && !h.specularChain) return;
+    perChunk[c].push_back({h.si->p, h.wi, h.beta / float(paths), h.si->ng});
+  });
+  if (rays) *rays = traced;
+  std::vector<Photon> all;
+  for (auto& c : perChunk) all.insert(all.end(), c.begin(), c.end());  // chunk order: deterministic
+  return PhotonMap(std::move(all));
+}
+
+void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
+  (void)prototype;
+  scene_ = &scene;
+  query_ = settings_.query;
+  query_.maxRadius = settings_.maxRadius > 0 ? settings_.maxRadius : 0.05f * scene.bounds().radius();
+  // The photon seed is fixed per scene and settings, so every pass and repeat
+  // of a run shares the maps' randomness only through this one preprocess.
+  uint64_t seed = 0x5eed;
+  global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.maxDepth, false);
+  caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.maxDepth, true);
+  if (settings_.stats)
+    for (auto [name, map] : {std::pair{"global", &global_}, std::pair{"caustic", &caustic_}})
+      std::cerr << "photon map " << name << ": " << map->size() << " photons stored, "
+                << double(map->memoryBytes()) / (1 << 20) << " MiB, kd-tree build " << map->buildSeconds() << " s\n";
+}
+
+namespace {
+// First non-delta surface along a ray, through specular bounces; false if
+// none within `bounces` (or the ray escapes).
+bool followSpecular(const Scene& scene, Ray ray, Sampler& sampler, int bounces, SurfaceInteraction& si, Color& weight,
+                    uint64_t& rays) {
+  for (int i = 0; i < bounces; ++i) {
+    ++rays;
+    if (!scene.intersect(ray, si) || !si.material) return false;
+    if (!si.material->isDelta()) return true;
+    auto bs = BSDF(si).sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    if (!bs) return false;
+    weight *= bs->weight;
+    ray = si.spawnRay(bs->wi);
+  }
+  return false;
+}
+}  // namespace
+
+Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Sampler& sampler, uint64_t& rays,
+                           std::vector<std::pair<size_t, float>>& scratch) const {
+  BSDF bsdf(x);
+  bool glossy = bsdf.flags() & BSDFGlossy;
+  const LightSampler& lights = scene.lightSampler();
+  Color L(0.f);
+  // Direct light: NEE, MIS-weighted against the gather rays on glossy surfaces.
+  if (!lights.empty()) {
+    float pmf;
+    const Light* light = lights.sample(sampler.get1D(), &pmf);
+    float uPick = sampler.get1D();
+    auto ls = light->sampleLi(x.p, uPick, sampler.get2D());
+    if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
+      BSDFEval e = bsdf.eval(x.wo, ls->wi, TransportMode::Radiance);
+      Color c = e.f * absDot(ls->wi, bsdf.shadingNormal());
+      ++rays;
+      if (!isBlack(c) && !scene.occluded(x.spawnRayTo(ls->p, ls->pError, ls->n))) {
+        float lightPdf = pmf * ls->pdf;
+        float w = glossy && !light->isDelta() && settings_.finalGather > 0
+                      ? powerHeuristic(lightPdf, float(settings_.finalGather) * e.pdf)
+                      : 1.f;
+        L += c * ls->L * (w / lightPdf);
+      }
+    }
+  }
+  // Caustics: L S+ D light at x.
+  L += caustic_.radiance(x.p, x.ng, query_, [&](const Vec3& wi) { return bsdf.eval(x.wo, wi, TransportMode::Radiance).f; },
+                         scratch);
+  // Indirect light: final gathering into the global map.
+  int n = settings_.finalGather;
+  for (int g = 0; g < n; ++g) {
+    auto bs = bsdf.sample(x.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    if (!bs) continue;
+    SurfaceInteraction y;
+    ++rays;
+    Ray ray = x.spawnRay(bs->wi);
+    if (!scene.intersect(ray, y)) continue;
+    if (y.emitter && glossy && !bs->isDelta()) {  // the other half of the glossy MIS pair
+      float lightPdf = lights.pmf(y.emitter) * y.emitter->pdfLi(x.p, bs->wi, y.p, y.ng);
+      L += bs->weight * y.emitter->L(y.ng, y.wo) * powerHeuristic(float(n) * bs->pdf, lightPdf) / float(n);
+    }
+    Color weight = bs->weight;
+    if (y.material && y.material->isDelta()) {
+      // Light reaching x through specular surfaces from a diffuse one; light
+      // arriving straight from an emitter that way is a caustic (caustic map).
+      auto next = BSDF(y).sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+      if (!next) continue;
+      weight *= next->weight;
+      if (!followSpecular(scene, y.spawnRay(next->wi), sampler, settings_.maxDepth, y, weight, rays)) continue;
+    }
+    if (!y.material) continue;
+    BSDF at(y);
+    L += weight * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; },
+                                   scratch) / float(n);
+  }
+  return L;
+}
+
+Color PhotonMapper::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
+  thread_local std::vector<std::pair<size_t, float>> scratch;
+  Color L(0.f), beta(1.f);
+  Ray ray = cameraRay;
+  for (int depth = 0; depth < settings_.maxDepth; ++depth) {
+    SurfaceInteraction si;
+    ++rays;
+    if (!scene.intersect(ray, si)) {
+      for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
+      break;
+    }
+    if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);  // seen directly or through specular bounces
+    if (!si.material) break;
+    BSDF bsdf(si);
+    if (bsdf.isDelta()) {
+      auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+      if (!bs) break;
+      beta *= bs->weight;
+      ray = si.spawnRay(bs->wi);
+      continue;
+    }
+    if (settings_.finalGather == 0)  // visualise the global map: all light at x from photons
+      L += beta * global_.radiance(si.p, si.ng, query_,
+                                   [&](const Vec3& wi) { return bsdf.eval(si.wo, wi, TransportMode::Radiance).f; }, scratch);
+    else
+      L += beta * gather(scene, si, sampler, rays, scratch);
+    break;
+  }
+  return L;
+}
+
+std::vector<std::string> PhotonMapper::writeExtraOutputs(const std::string& stem) const {
+  if (!settings_.densityImages || !scene_) return {};
+  // Irradiance E = π·(radiance of a white Lambertian) from each map, at the
+  // first surface seen through each pixel centre.
+  std::vector<std::string> written;
+  const Camera& cam = scene_->camera;
+  std::vector<std::pair<size_t, float>> scratch;
+  for (auto [name, map] : {std::pair{"global", &global_}, std::pair{"caustic", &caustic_}}) {
+    Image img(cam.width(), cam.height());
+    for (int y = 0; y < cam.height(); ++y)
+      for (int x = 0; x < cam.width(); ++x) {
+        SurfaceInteraction si;
+        if (scene_->intersect(cam.generateRay(Vec2(x + 0.5f, y + 0.5f)), si))
+          img.at(x, y) = map->radiance(si.p, si.ng, query_, [](const Vec3&) { return Color(1.f); }, scratch);
+      }
+    std::string path = stem + "_" + name + "_density.exr";
+    writeExr(path, img);
+    writePng(stem + "_" + name + "_density.png", img);
+    written.push_back(path);
+  }
+  return written;
+}
+
+}  // namespace lb

@@ -1,0 +1,53 @@
+#include "integrators/photon/photon_tracing.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <atomic>
+#include "core/bsdfs/bsdf.h"
+#include "core/sampler.h"
+
+namespace lb {
+
+uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
+                      const std::function<void(size_t, const PhotonHit&)>& visit) {
+  const LightSampler& lights = scene.lightSampler();
+  if (lights.empty() || paths == 0) return 0;
+  size_t chunks = (paths + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
+  std::atomic<uint64_t> totalRays{0};
+  IndependentSampler prototype(hashValues(seed, 0x70686f746f6eULL));  // a stream apart from camera samples
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks), [&](const tbb::blocked_range<size_t>& range) {
+    IndependentSampler sampler = prototype;
+    uint64_t rays = 0;
+    for (size_t c = range.begin(); c != range.end(); ++c)
+      for (size_t i = c * PhotonPathsPerChunk; i < std::min(paths, (c + 1) * PhotonPathsPerChunk); ++i) {
+        sampler.start(i, pass);
+        float pmf;
+        const Light* light = lights.sample(sampler.get1D(), &pmf);
+        float uPick = sampler.get1D();
+        Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
+        auto e = light->sampleLe(uPick, uPos, uDir);
+        if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) continue;
+        float cos = glm::dot(e->n, e->n) > 0 ? absDot(e->n, e->ray.d) : 1.f;
+        Color beta = e->Le * cos / (pmf * e->pdfPos * e->pdfDir);
+        Ray ray = e->ray;
+        bool specularChain = true;
+        for (int bounces = 0; bounces < maxBounces; ++bounces) {
+          SurfaceInteraction si;
+          ++rays;
+          if (!scene.intersect(ray, si) || !si.material) break;
+          BSDF bsdf(si);
+          if (!bsdf.isDelta()) visit(c, {&si, si.wo, beta, bounces, specularChain && bounces > 0});
+          auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Importance);
+          if (!bs) break;
+          specularChain = specularChain && bs->isDelta();
+          float survive = std::min(1.f, maxComponent(bs->weight));
+          if (sampler.get1D() >= survive) break;
+          beta *= bs->weight / survive;
+          ray = si.spawnRay(bs->wi);
+        }
+      }
+    totalRays += rays;
+  });
+  return totalRays.load();
+}
+
+}  // namespace lb

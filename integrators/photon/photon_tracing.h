@@ -1,0 +1,31 @@
+#pragma once
+// Photon paths: a light chosen by power, an emitted ray, importance-mode BSDF
+// sampling, Russian roulette by the scattering weight (Jensen's "albedo"
+// roulette: photons keep roughly constant power). At every non-specular hit
+// the visitor receives the photon; paths are traced in fixed-size chunks in
+// parallel, and the visitor is told the chunk, so callers can merge results
+// in chunk order: deterministic for a fixed seed whatever the thread count.
+#include <cstdint>
+#include <functional>
+#include "core/interaction.h"
+#include "core/scene.h"
+
+namespace lb {
+
+struct PhotonHit {
+  const SurfaceInteraction* si;
+  Vec3 wi;              // towards where the photon came from
+  Color beta;           // flux of this photon path, not yet divided by the number of paths
+  int bounces;          // surface interactions before this one (0: straight from the light)
+  bool specularChain;   // every earlier bounce was specular (and there was at least one): L S+ here
+};
+
+constexpr size_t PhotonPathsPerChunk = 4096;
+
+// Calls visit(chunk, hit) for each non-specular hit of `paths` photon paths
+// (path i uses random numbers seeded by (seed, i, pass)). Returns the number
+// of rays traced. maxBounces bounds the surface interactions per path.
+uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
+                      const std::function<void(size_t chunk, const PhotonHit&)>& visit);
+
+}  // namespace lb
