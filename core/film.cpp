@@ -50,6 +50,7 @@ Image Film::image() const {
   for (size_t i = 0; i < sum_.size(); ++i) {
     glm::dvec3 mean = count_[i] ? sum_[i] / double(count_[i]) : glm::dvec3(0);
     if (passes_) mean += passSum_[i] / double(passes_);
+    if (!progressive_.empty()) mean += progressive_[i];
     img.pixels[i] = Color(mean);
   }
   return img;

@@ -65,6 +65,10 @@ class Film {
   // Thread-safe for distinct pixels.
   void addSample(int x, int y, uint64_t sampleIndex, Color L);
   void addPass(const PassImage& pass);
+  // A consistent estimator's current estimate that is not an average of
+  // independent samples (SPPM's photon term): added to the image as is; its
+  // variance is unknown and not included in varianceOfMean().
+  void setProgressiveEstimate(std::vector<glm::dvec3> estimate) { progressive_ = std::move(estimate); }
 
   uint64_t samples(int x, int y) const { return count_[index(x, y)]; }
   uint64_t passes() const { return passes_; }
@@ -87,6 +91,7 @@ class Film {
   std::vector<uint64_t> count_;
   std::vector<glm::dvec3> passSum_, passSumSq_;
   uint64_t passes_ = 0;
+  std::vector<glm::dvec3> progressive_;
   std::atomic<uint64_t> nonFinite_{0};
   mutable std::mutex recordMutex_;
   std::vector<NonFiniteSample> records_;

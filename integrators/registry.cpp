@@ -3,6 +3,7 @@
 #include "integrators/light/light_tracer.h"
 #include "integrators/path/path_tracer.h"
 #include "integrators/photon/photon_integrator.h"
+#include "integrators/sppm/sppm.h"
 
 namespace lb {
 
@@ -16,6 +17,8 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<Bdpt>(BdptSettings::read(p)); }},
       {"photon", "photon mapping: caustic + global maps (FLANN kd-tree), NEE, final gathering",
        [](Params& p) { return std::make_unique<PhotonMapper>(PhotonSettings::read(p)); }},
+      {"sppm", "stochastic progressive photon mapping: per-pixel radius reduction, consistent",
+       [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }},
   };
   return table;
 }

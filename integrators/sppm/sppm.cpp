@@ -1,0 +1,153 @@
+#include "integrators/sppm/sppm.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include "core/bsdfs/bsdf.h"
+#include "integrators/photon/photon_map.h"
+#include "integrators/photon/photon_tracing.h"
+
+namespace lb {
+
+SppmSettings SppmSettings::read(Params& p) {
+  SppmSettings s;
+  int photons = p.getInt("photons_per_pass", 100000);
+  if (photons < 1) p.fail("photons_per_pass", "must be at least 1");
+  s.photonsPerPass = size_t(photons);
+  s.alpha = p.getFloat("alpha", 0.7f);
+  if (!(s.alpha > 0 && s.alpha < 1)) p.fail("alpha", "must be in (0, 1)");
+  s.initialRadius = p.getFloat("initial_radius", 0);
+  if (s.initialRadius < 0) p.fail("initial_radius", "must not be negative (0: relative_radius)");
+  s.relativeRadius = p.getFloat("relative_radius", 0.02f);
+  if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
+  s.maxDepth = p.getInt("max_depth", 32);
+  if (s.maxDepth < 1) p.fail("max_depth", "must be at least 1");
+  p.checkUnused();
+  return s;
+}
+
+namespace {
+struct VisiblePoint {
+  SurfaceInteraction si;
+  Color beta{0.f};
+  bool valid = false;
+};
+struct Deposit {
+  uint32_t pixel;
+  Color flux;
+};
+constexpr int TileSize = 16;
+}  // namespace
+
+void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
+  const int W = film.width(), H = film.height();
+  if (pixels_.empty()) {
+    float r0 = settings_.initialRadius > 0 ? settings_.initialRadius : settings_.relativeRadius * scene.bounds().radius();
+    pixels_.assign(size_t(W) * H, SppmPixel{0, r0, glm::dvec3(0)});
+  }
+  // 1. Camera pass: visible points, emission through specular chains, NEE.
+  std::vector<VisiblePoint> vps(size_t(W) * H);
+  PassImage direct(W, H);
+  int tilesX = (W + TileSize - 1) / TileSize, tilesY = (H + TileSize - 1) / TileSize;
+  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
+    auto sampler = prototype.clone();
+    uint64_t rays = 0;
+    for (int tile = range.begin(); tile != range.end(); ++tile) {
+      int x0 = (tile % tilesX) * TileSize, y0 = (tile / tilesX) * TileSize;
+      for (int y = y0; y < std::min(y0 + TileSize, H); ++y)
+        for (int x = x0; x < std::min(x0 + TileSize, W); ++x) {
+          sampler->start(uint64_t(y) * W + x, pass);
+          Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler->get2D());
+          Color L(0.f), beta(1.f);
+          VisiblePoint& vp = vps[size_t(y) * W + x];
+          for (int depth = 0; depth < settings_.maxDepth; ++depth) {
+            SurfaceInteraction si;
+            ++rays;
+            if (!scene.intersect(ray, si)) {
+              for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
+              break;
+            }
+            if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);
+            if (!si.material) break;
+            BSDF bsdf(si);
+            if (!bsdf.isDelta()) {
+              // Direct light by NEE at the visible point.
+              float pmf;
+              const Light* light = scene.lightSampler().sample(sampler->get1D(), &pmf);
+              float uPick = sampler->get1D();
+              Vec2 u = sampler->get2D();
+              if (light) {
+                auto ls = light->sampleLi(si.p, uPick, u);
+                if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
+                  Color c = bsdf.eval(si.wo, ls->wi, TransportMode::Radiance).f * absDot(ls->wi, bsdf.shadingNormal());
+                  ++rays;
+                  if (!isBlack(c) && !scene.occluded(si.spawnRayTo(ls->p, ls->pError, ls->n)))
+                    L += beta * c * ls->L / (pmf * ls->pdf);
+                }
+              }
+              vp = {si, beta, true};
+              break;
+            }
+            auto bs = bsdf.sample(si.wo, sampler->get1D(), sampler->get2D(), TransportMode::Radiance);
+            if (!bs) break;
+            beta *= bs->weight;
+            ray = si.spawnRay(bs->wi);
+          }
+          direct.add(x, y, L, pass, film);
+        }
+    }
+    stats.rays += rays;
+  });
+  film.addPass(direct);
+
+  // 2. Photon pass into the visible points (FLANN over their positions).
+  std::vector<Vec3> positions;
+  std::vector<uint32_t> pixelOf;
+  float maxRadius = 0;
+  for (size_t i = 0; i < vps.size(); ++i)
+    if (vps[i].valid) {
+      positions.push_back(vps[i].si.p);
+      pixelOf.push_back(uint32_t(i));
+      maxRadius = std::max(maxRadius, pixels_[i].R);
+    }
+  PointIndex index(positions);
+  size_t M = settings_.photonsPerPass;
+  size_t chunks = (M + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
+  std::vector<std::vector<Deposit>> deposits(chunks);
+  if (!positions.empty())
+    stats.rays += tracePhotons(scene, 0x5995eedULL, pass, M, settings_.maxDepth, [&](size_t c, const PhotonHit& h) {
+      if (h.bounces == 0) return;  // direct light comes from NEE
+      thread_local std::vector<std::pair<size_t, float>> found;
+      index.radius(h.si->p, maxRadius, found);
+      for (const auto& [k, d2] : found) {
+        uint32_t pixel = pixelOf[k];
+        float R = pixels_[pixel].R;
+        const VisiblePoint& vp = vps[pixel];
+        if (d2 > R * R || glm::dot(vp.si.ng, h.si->ng) < 0.5f) continue;  // outside its radius, or another surface
+        Color f = BSDF(vp.si).eval(vp.si.wo, h.wi, TransportMode::Radiance).f;
+        Color flux = vp.beta * f * h.beta;
+        if (!isBlack(flux)) deposits[c].push_back({pixel, flux});
+      }
+    });
+  photonsEmitted_ += M;
+
+  // 3. Progressive statistics, merged in chunk order (deterministic).
+  std::vector<double> count(pixels_.size(), 0);
+  std::vector<glm::dvec3> flux(pixels_.size(), glm::dvec3(0));
+  for (const auto& chunk : deposits)
+    for (const Deposit& d : chunk) {
+      if (!isFinite(d.flux)) {
+        film.recordNonFinite(int(d.pixel % W), int(d.pixel / W), pass);
+        continue;
+      }
+      count[d.pixel] += 1;
+      flux[d.pixel] += glm::dvec3(d.flux);
+    }
+  std::vector<glm::dvec3> estimate(pixels_.size());
+  for (size_t i = 0; i < pixels_.size(); ++i) {
+    pixels_[i].update(count[i], flux[i], settings_.alpha);
+    double R = pixels_[i].R;
+    estimate[i] = pixels_[i].tau / (double(photonsEmitted_) * Pi * R * R);
+  }
+  film.setProgressiveEstimate(std::move(estimate));
+}
+
+}  // namespace lb
