@@ -20,6 +20,7 @@ SppmSettings SppmSettings::read(Params& p) {
   if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
   s.maxDepth = p.getInt("max_depth", 32);
   if (s.maxDepth < 1) p.fail("max_depth", "must be at least 1");
+  s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"}) == "grid";
   p.checkUnused();
   return s;
 }
@@ -35,6 +36,36 @@ struct Deposit {
   Color flux;
 };
 constexpr int TileSize = 16;
+
+// Visible points hashed into a uniform grid: each point sits in every cell
+// its radius ball overlaps, so a photon only reads the cell it lands in.
+class VisiblePointGrid {
+ public:
+  VisiblePointGrid(const std::vector<Vec3>& p, const std::vector<float>& radius, float cellSize)
+      : cell_(cellSize), buckets_(std::max<size_t>(1, p.size())) {
+    for (size_t i = 0; i < p.size(); ++i) {
+      glm::ivec3 lo = cellOf(p[i] - Vec3(radius[i])), hi = cellOf(p[i] + Vec3(radius[i]));
+      for (int z = lo.z; z <= hi.z; ++z)
+        for (int y = lo.y; y <= hi.y; ++y)
+          for (int x = lo.x; x <= hi.x; ++x) {
+            // Two cells of one point may hash to the same bucket: store it once,
+            // or a photon there would deposit into it twice.
+            auto& bucket = buckets_[hash({x, y, z})];
+            if (bucket.empty() || bucket.back() != uint32_t(i)) bucket.push_back(uint32_t(i));
+          }
+    }
+  }
+  const std::vector<uint32_t>& candidates(const Vec3& p) const { return buckets_[hash(cellOf(p))]; }
+
+ private:
+  glm::ivec3 cellOf(const Vec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
+  size_t hash(glm::ivec3 c) const {
+    return size_t((uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^ (uint32_t(c.z) * 83492791u)) %
+           buckets_.size();
+  }
+  float cell_;
+  std::vector<std::vector<uint32_t>> buckets_;
+};
 }  // namespace
 
 void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
@@ -100,15 +131,20 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
 
   // 2. Photon pass into the visible points (FLANN over their positions).
   std::vector<Vec3> positions;
+  std::vector<float> radii;
   std::vector<uint32_t> pixelOf;
   float maxRadius = 0;
   for (size_t i = 0; i < vps.size(); ++i)
     if (vps[i].valid) {
       positions.push_back(vps[i].si.p);
+      radii.push_back(pixels_[i].R);
       pixelOf.push_back(uint32_t(i));
       maxRadius = std::max(maxRadius, pixels_[i].R);
     }
-  PointIndex index(positions);
+  std::unique_ptr<PointIndex> index;
+  std::unique_ptr<VisiblePointGrid> grid;
+  if (settings_.gridLookup) grid = std::make_unique<VisiblePointGrid>(positions, radii, std::max(maxRadius, 1e-30f));
+  else index = std::make_unique<PointIndex>(positions);
   size_t M = settings_.photonsPerPass;
   size_t chunks = (M + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
   std::vector<std::vector<Deposit>> deposits(chunks);
@@ -116,7 +152,15 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     stats.rays += tracePhotons(scene, 0x5995eedULL, pass, M, settings_.maxDepth, [&](size_t c, const PhotonHit& h) {
       if (h.bounces == 0) return;  // direct light comes from NEE
       thread_local std::vector<std::pair<size_t, float>> found;
-      index.radius(h.si->p, maxRadius, found);
+      found.clear();
+      if (grid) {
+        for (uint32_t k : grid->candidates(h.si->p)) {
+          Vec3 d = positions[k] - h.si->p;
+          found.push_back({k, glm::dot(d, d)});
+        }
+      } else {
+        index->radius(h.si->p, maxRadius, found);
+      }
       for (const auto& [k, d2] : found) {
         uint32_t pixel = pixelOf[k];
         float R = pixels_[pixel].R;

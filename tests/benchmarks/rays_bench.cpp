@@ -5,7 +5,9 @@
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_for.h>
 #include <atomic>
+#include <chrono>
 #include <map>
+#include "integrators/photon/photon_integrator.h"
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
@@ -127,6 +129,73 @@ BENCHMARK_CAPTURE(Integrator, bdpt_cornell, "bdpt", "cornell-box")->Unit(benchma
 BENCHMARK_CAPTURE(Integrator, path_caustic, "path", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK_CAPTURE(Integrator, light_caustic, "light", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK_CAPTURE(Integrator, bdpt_caustic, "bdpt", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// Photon tracing throughput (the global map's photon paths) on the Cornell box.
+void PhotonTracing(benchmark::State& state) {
+  const SceneFile& sf = cornell();
+  uint64_t photons = 0;
+  for (auto _ : state) photons += buildPhotonMap(*sf.scene, photons, 200000, 32, false).size();
+  state.counters["photons stored/s"] = benchmark::Counter(double(photons), benchmark::Counter::kIsRate);
+}
+BENCHMARK(PhotonTracing)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+
+// FLANN index variants over N random points on a few planes (photon-like):
+// build time and k-NN (k = 30, radius-bounded) query time, one thread.
+template <typename Params>
+void FlannIndex(benchmark::State& state, Params params, float eps) {
+  size_t n = size_t(state.range(0));
+  Pcg32 rng(1, 2);
+  std::vector<float> pts(3 * n);
+  for (size_t i = 0; i < n; ++i) {
+    int plane = int(rng.uniformInt(3));
+    float a = rng.next1D() * 2, b = rng.next1D() * 2;
+    Vec3 p = plane == 0 ? Vec3(a - 1, 0, b - 1) : plane == 1 ? Vec3(-1, a, b - 1) : Vec3(a - 1, b, -1);
+    pts[3 * i] = p.x, pts[3 * i + 1] = p.y, pts[3 * i + 2] = p.z;
+  }
+  flann::Matrix<float> data(pts.data(), n, 3);
+  double buildSeconds = 0;
+  size_t queries = 0;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    flann::Index<flann::L2_Simple<float>> index(data, params);
+    index.buildIndex();
+    buildSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<size_t> idx(30);
+    std::vector<float> dist(30);
+    flann::SearchParams sp(eps > 0 ? 64 : flann::FLANN_CHECKS_UNLIMITED, eps, true);
+    for (int q = 0; q < 20000; ++q) {
+      float query[3] = {rng.next1D() * 2 - 1, 0, rng.next1D() * 2 - 1};
+      flann::Matrix<float> qm(query, 1, 3);
+      flann::Matrix<size_t> im(idx.data(), 1, 30);
+      flann::Matrix<float> dm(dist.data(), 1, 30);
+      index.knnSearch(qm, im, dm, 30, sp);
+    }
+    queries += 20000;
+  }
+  state.counters["build s"] = buildSeconds / double(state.iterations());
+  state.counters["queries/s"] = benchmark::Counter(double(queries), benchmark::Counter::kIsRate);
+}
+BENCHMARK_CAPTURE(FlannIndex, single_kdtree_exact, flann::KDTreeSingleIndexParams(10), 0.f)
+    ->Arg(100000)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(FlannIndex, randomised_forest4_approx, flann::KDTreeIndexParams(4), 0.1f)
+    ->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(FlannIndex, single_kdtree_approx_eps, flann::KDTreeSingleIndexParams(10), 0.5f)
+    ->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+// One SPPM pass (128², 100k photons) with each visible-point lookup.
+void SppmPass(benchmark::State& state, const char* lookup) {
+  static SceneFile sf = test::loadShippedScene("cornell-box-spheres", 128, 128);
+  Params params(YAML::Load(std::string("{lookup: ") + lookup + "}"), "", "integrator");
+  auto integ = makeIntegrator("sppm", params);
+  Film film(128, 128);
+  auto sampler = makeSampler(sf.sampler, 1);
+  PassStats stats;
+  uint64_t pass = 0;
+  enableFlushToZeroOnAllThreads();
+  for (auto _ : state) integ->renderPass(*sf.scene, film, *sampler, pass++, stats);
+}
+BENCHMARK_CAPTURE(SppmPass, grid, "grid")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(SppmPass, flann, "flann")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);

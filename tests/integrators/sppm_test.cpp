@@ -72,6 +72,16 @@ TEST(Sppm, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
   EXPECT_EQ(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Color)), 0);
 }
 
+TEST(Sppm, GridAndFlannLookupsFindTheSameVisiblePoints) {
+  // Each photon deposits at most once per pixel, in photon order, whichever
+  // structure finds the points: the images must be identical bit for bit (a
+  // duplicated or missed visible point in either would show).
+  SceneFile sf = loadShippedScene("cornell-box-spheres", 24, 24);
+  Image grid = renderScene(sf, {"sppm", "{photons_per_pass: 20000, lookup: grid}", 6, 5})->image();
+  Image flann = renderScene(sf, {"sppm", "{photons_per_pass: 20000, lookup: flann}", 6, 5})->image();
+  EXPECT_EQ(std::memcmp(grid.pixels.data(), flann.pixels.data(), grid.pixels.size() * sizeof(Color)), 0);
+}
+
 TEST(PhotonMapper, CausticUnderTheGlassSphereAgreesWithBdpt) {
   // The brightest 8×8 block of BDPT's image of the caustic scene is the
   // caustic; the photon map's mean there must agree within BDPT's z-bound plus
