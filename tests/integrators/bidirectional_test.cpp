@@ -174,9 +174,10 @@ TEST(Bdpt, UnweightedStrategiesAreUnbiasedWhereTheyApply) {
 
 TEST(Bidirectional, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
   SceneFile sf = loadShippedScene("cornell-box-spheres", 40, 40);
-  for (std::string integrator : {"light", "bdpt"}) {
-    Image one = renderScene(sf, {integrator, "{}", 4, 42, 1})->image();
-    Image two = renderScene(sf, {integrator, "{}", 4, 42, 2})->image();
+  for (std::string integrator : {"light", "bdpt", "photon"}) {
+    std::string params = integrator == "photon" ? "{global_photons: 20000, caustic_photons: 20000}" : "{}";
+    Image one = renderScene(sf, {integrator, params, 4, 42, 1})->image();
+    Image two = renderScene(sf, {integrator, params, 4, 42, 2})->image();
     EXPECT_EQ(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Color)), 0) << integrator;
   }
 }
