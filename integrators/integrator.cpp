@@ -1,12 +1,7 @@
 #include "integrators/integrator.h"
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "integrators/pixel_tiles.h"
 
 namespace lb {
-
-namespace {
-constexpr int TileSize = 16;
-}
 
 Color PixelIntegrator::samplePixel(const Scene& scene, Sampler& sampler, int x, int y, uint64_t sample,
                                    uint64_t& rays) const {
@@ -18,17 +13,8 @@ Color PixelIntegrator::samplePixel(const Scene& scene, Sampler& sampler, int x, 
 
 void PixelIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
                                  PassStats& stats) {
-  int tilesX = (film.width() + TileSize - 1) / TileSize, tilesY = (film.height() + TileSize - 1) / TileSize;
-  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-    auto sampler = prototype.clone();
-    uint64_t rays = 0;
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
-      int x0 = (tile % tilesX) * TileSize, y0 = (tile / tilesX) * TileSize;
-      for (int y = y0; y < std::min(y0 + TileSize, film.height()); ++y)
-        for (int x = x0; x < std::min(x0 + TileSize, film.width()); ++x)
-          film.addSample(x, y, pass, samplePixel(scene, *sampler, x, y, pass, rays));
-    }
-    stats.rays += rays;
+  forEachPixel(film.width(), film.height(), prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
+    film.addSample(x, y, pass, samplePixel(scene, sampler, x, y, pass, rays));
   });
 }
 

@@ -1,7 +1,6 @@
 #include "integrators/bdpt/bdpt.h"
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <filesystem>
+#include "integrators/pixel_tiles.h"
 
 namespace lb {
 
@@ -17,8 +16,6 @@ BdptSettings BdptSettings::read(Params& p) {
 }
 
 namespace {
-constexpr int TileSize = 16;
-
 struct StrategySplat {
   int strategy;
   Splat weighted, unweighted;
@@ -45,50 +42,41 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   std::vector<PassImage> strategyPass, strategyPassRaw;
   for (size_t i = 0; i < strategies_.size(); ++i) strategyPass.emplace_back(W, H), strategyPassRaw.emplace_back(W, H);
 
-  int tilesX = (W + TileSize - 1) / TileSize, tilesY = (H + TileSize - 1) / TileSize;
-  std::vector<std::vector<Splat>> splats(size_t(tilesX * tilesY));
-  std::vector<std::vector<StrategySplat>> strategySplats(size_t(tilesX * tilesY));
+  std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
+  std::vector<std::vector<StrategySplat>> strategySplats(size_t(tileCount(W, H)));
   PassImage image(W, H);
   int maxSeg = settings_.length.maxSegments();
   // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays.
   size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1, lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
-  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-    auto sampler = prototype.clone();
-    std::vector<bdpt::Vertex> camera(cameraCapacity), light(lightCapacity);
-    uint64_t rays = 0;
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
-      int x0 = (tile % tilesX) * TileSize, y0 = (tile / tilesX) * TileSize;
-      for (int y = y0; y < std::min(y0 + TileSize, H); ++y)
-        for (int x = x0; x < std::min(x0 + TileSize, W); ++x) {
-          sampler->start(uint64_t(y) * W + x, pass);
-          Vec2 raster = Vec2(x, y) + sampler->get2D();
-          int nCamera = bdpt::generateCameraSubpath(scene, *sampler, settings_, raster, camera, rays);
-          int nLight = bdpt::generateLightSubpath(scene, *sampler, settings_, light, rays);
-          Color L(0.f);
-          for (int t = 1; t <= nCamera; ++t)
-            for (int s = 0; s <= nLight; ++s) {
-              int segments = s + t - 1;
-              if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
-              bdpt::Connection c = bdpt::connect(scene, *sampler, settings_, light, camera, s, t, rays);
-              if (isBlack(c.L) || c.weight == 0) continue;
-              Color weighted = c.L * c.weight;
-              if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
-                film.recordNonFinite(x, y, pass);
-                continue;
-              }
-              if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
-              else L += weighted;
-              int k = strategies_.empty() ? -1 : strategyIndex(s, t);
-              if (k >= 0) {
-                Vec2 at = t == 1 ? c.raster : Vec2(x, y);
-                strategySplats[size_t(tile)].push_back({k, {at, weighted}, {at, c.L}});
-              }
-            }
-          image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
+  forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
+    thread_local std::vector<bdpt::Vertex> camera, light;
+    camera.resize(cameraCapacity), light.resize(lightCapacity);
+    sampler.start(uint64_t(y) * W + x, pass);
+    Vec2 raster = Vec2(x, y) + sampler.get2D();
+    int nCamera = bdpt::generateCameraSubpath(scene, sampler, settings_, raster, camera, rays);
+    int nLight = bdpt::generateLightSubpath(scene, sampler, settings_, light, rays);
+    Color L(0.f);
+    for (int t = 1; t <= nCamera; ++t)
+      for (int s = 0; s <= nLight; ++s) {
+        int segments = s + t - 1;
+        if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
+        bdpt::Connection c = bdpt::connect(scene, sampler, settings_, light, camera, s, t, rays);
+        if (isBlack(c.L) || c.weight == 0) continue;
+        Color weighted = c.L * c.weight;
+        if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
+          film.recordNonFinite(x, y, pass);
+          continue;
         }
-    }
-    stats.rays += rays;
+        if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
+        else L += weighted;
+        int k = strategies_.empty() ? -1 : strategyIndex(s, t);
+        if (k >= 0) {
+          Vec2 at = t == 1 ? c.raster : Vec2(x, y);
+          strategySplats[size_t(tile)].push_back({k, {at, weighted}, {at, c.L}});
+        }
+      }
+    image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
   });
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums
     for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);

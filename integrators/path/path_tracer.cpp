@@ -1,5 +1,6 @@
 #include "integrators/path/path_tracer.h"
 #include "core/bsdfs/bsdf.h"
+#include "integrators/direct_light.h"
 #include "core/sampling.h"
 
 namespace lb {
@@ -98,23 +99,10 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
 
     // Next-event estimation: one light, one point on it.
     if (settings_.nee && !delta && !lights.empty()) {
-      float pmf;
-      const Light* light = lights.sample(sampler.get1D(), &pmf);
-      float uPick = sampler.get1D();
-      Vec2 uLight = sampler.get2D();
-      auto ls = light->sampleLi(si.p, uPick, uLight);
-      if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
-        BSDFEval e = bsdf.eval(si.wo, ls->wi, TransportMode::Radiance);
-        Color contribution = e.f * absDot(ls->wi, bsdf.shadingNormal());
-        if (!isBlack(contribution)) {
-          ++rays;
-          if (!scene.occluded(si.spawnRayTo(ls->p, ls->pError, ls->n))) {
-            float lightPdf = pmf * ls->pdf;
-            float scatterPdf = uniformOrCosine ? hemispherePdf(settings_.sampling, bsdf, si.wo, ls->wi) : e.pdf;
-            float w = light->isDelta() ? 1.f : misWeight(lightPdf, scatterPdf);
-            L += beta * contribution * ls->L * (w / lightPdf);
-          }
-        }
+      if (auto d = sampleDirectLight(scene, si, bsdf, sampler, rays)) {
+        float scatterPdf = uniformOrCosine ? hemispherePdf(settings_.sampling, bsdf, si.wo, d->wi) : d->bsdfPdf;
+        float w = d->deltaLight ? 1.f : misWeight(d->lightPdf, scatterPdf);
+        L += beta * d->contribution * w;
       }
     }
 

@@ -1,6 +1,7 @@
 #include "integrators/photon/photon_integrator.h"
 #include <iostream>
 #include "core/bsdfs/bsdf.h"
+#include "integrators/direct_light.h"
 #include "integrators/photon/photon_tracing.h"
 
 namespace lb {
@@ -83,23 +84,11 @@ Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Samp
   const LightSampler& lights = scene.lightSampler();
   Color L(0.f);
   // Direct light: NEE, MIS-weighted against the gather rays on glossy surfaces.
-  if (!lights.empty()) {
-    float pmf;
-    const Light* light = lights.sample(sampler.get1D(), &pmf);
-    float uPick = sampler.get1D();
-    auto ls = light->sampleLi(x.p, uPick, sampler.get2D());
-    if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
-      BSDFEval e = bsdf.eval(x.wo, ls->wi, TransportMode::Radiance);
-      Color c = e.f * absDot(ls->wi, bsdf.shadingNormal());
-      ++rays;
-      if (!isBlack(c) && !scene.occluded(x.spawnRayTo(ls->p, ls->pError, ls->n))) {
-        float lightPdf = pmf * ls->pdf;
-        float w = glossy && !light->isDelta() && settings_.finalGather > 0
-                      ? powerHeuristic(lightPdf, float(settings_.finalGather) * e.pdf)
-                      : 1.f;
-        L += c * ls->L * (w / lightPdf);
-      }
-    }
+  if (auto d = sampleDirectLight(scene, x, bsdf, sampler, rays)) {
+    float w = glossy && !d->deltaLight && settings_.finalGather > 0
+                  ? powerHeuristic(d->lightPdf, float(settings_.finalGather) * d->bsdfPdf)
+                  : 1.f;
+    L += d->contribution * w;
   }
   // Caustics: L S+ D light at x.
   L += caustic_.radiance(x.p, x.ng, query_, [&](const Vec3& wi) { return bsdf.eval(x.wo, wi, TransportMode::Radiance).f; },

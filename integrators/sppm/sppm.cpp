@@ -2,6 +2,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include "core/bsdfs/bsdf.h"
+#include "integrators/direct_light.h"
+#include "integrators/pixel_tiles.h"
 #include "integrators/photon/photon_map.h"
 #include "integrators/photon/photon_tracing.h"
 
@@ -35,8 +37,6 @@ struct Deposit {
   uint32_t pixel;
   Color flux;
 };
-constexpr int TileSize = 16;
-
 // Visible points hashed into a uniform grid: each point sits in every cell
 // its radius ball overlaps, so a photon only reads the cell it lands in.
 class VisiblePointGrid {
@@ -77,55 +77,32 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   // 1. Camera pass: visible points, emission through specular chains, NEE.
   std::vector<VisiblePoint> vps(size_t(W) * H);
   PassImage direct(W, H);
-  int tilesX = (W + TileSize - 1) / TileSize, tilesY = (H + TileSize - 1) / TileSize;
-  tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& range) {
-    auto sampler = prototype.clone();
-    uint64_t rays = 0;
-    for (int tile = range.begin(); tile != range.end(); ++tile) {
-      int x0 = (tile % tilesX) * TileSize, y0 = (tile / tilesX) * TileSize;
-      for (int y = y0; y < std::min(y0 + TileSize, H); ++y)
-        for (int x = x0; x < std::min(x0 + TileSize, W); ++x) {
-          sampler->start(uint64_t(y) * W + x, pass);
-          Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler->get2D());
-          Color L(0.f), beta(1.f);
-          VisiblePoint& vp = vps[size_t(y) * W + x];
-          for (int depth = 0; depth < settings_.maxDepth; ++depth) {
-            SurfaceInteraction si;
-            ++rays;
-            if (!scene.intersect(ray, si)) {
-              for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
-              break;
-            }
-            if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);
-            if (!si.material) break;
-            BSDF bsdf(si);
-            if (!bsdf.isDelta()) {
-              // Direct light by NEE at the visible point.
-              float pmf;
-              const Light* light = scene.lightSampler().sample(sampler->get1D(), &pmf);
-              float uPick = sampler->get1D();
-              Vec2 u = sampler->get2D();
-              if (light) {
-                auto ls = light->sampleLi(si.p, uPick, u);
-                if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
-                  Color c = bsdf.eval(si.wo, ls->wi, TransportMode::Radiance).f * absDot(ls->wi, bsdf.shadingNormal());
-                  ++rays;
-                  if (!isBlack(c) && !scene.occluded(si.spawnRayTo(ls->p, ls->pError, ls->n)))
-                    L += beta * c * ls->L / (pmf * ls->pdf);
-                }
-              }
-              vp = {si, beta, true};
-              break;
-            }
-            auto bs = bsdf.sample(si.wo, sampler->get1D(), sampler->get2D(), TransportMode::Radiance);
-            if (!bs) break;
-            beta *= bs->weight;
-            ray = si.spawnRay(bs->wi);
-          }
-          direct.add(x, y, L, pass, film);
-        }
+  forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
+    sampler.start(uint64_t(y) * W + x, pass);
+    Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
+    Color L(0.f), beta(1.f);
+    VisiblePoint& vp = vps[size_t(y) * W + x];
+    for (int depth = 0; depth < settings_.maxDepth; ++depth) {
+      SurfaceInteraction si;
+      ++rays;
+      if (!scene.intersect(ray, si)) {
+        for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
+        break;
+      }
+      if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);
+      if (!si.material) break;
+      BSDF bsdf(si);
+      if (!bsdf.isDelta()) {  // the visible point: direct light by NEE here
+        if (auto d = sampleDirectLight(scene, si, bsdf, sampler, rays)) L += beta * d->contribution;
+        vp = {si, beta, true};
+        break;
+      }
+      auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+      if (!bs) break;
+      beta *= bs->weight;
+      ray = si.spawnRay(bs->wi);
     }
-    stats.rays += rays;
+    direct.add(x, y, L, pass, film);
   });
   film.addPass(direct);
 
