@@ -125,33 +125,16 @@ Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Samp
 
 Color PhotonMapper::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
   thread_local std::vector<std::pair<size_t, float>> scratch;
-  Color L(0.f), beta(1.f);
-  Ray ray = cameraRay;
-  for (int depth = 0; depth < settings_.maxDepth; ++depth) {
-    SurfaceInteraction si;
-    ++rays;
-    if (!scene.intersect(ray, si)) {
-      for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
-      break;
-    }
-    if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);  // seen directly or through specular bounces
-    if (!si.material) break;
-    BSDF bsdf(si);
-    if (bsdf.isDelta()) {
-      auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
-      if (!bs) break;
-      beta *= bs->weight;
-      ray = si.spawnRay(bs->wi);
-      continue;
-    }
-    if (settings_.finalGather == 0)  // visualise the global map: all light at x from photons
-      L += beta * global_.radiance(si.p, si.ng, query_,
-                                   [&](const Vec3& wi) { return bsdf.eval(si.wo, wi, TransportMode::Radiance).f; }, scratch);
-    else
-      L += beta * gather(scene, si, sampler, rays, scratch);
-    break;
+  NonSpecularHit hit = traceToNonSpecular(scene, cameraRay, sampler, settings_.maxDepth, rays);
+  if (!hit.si) return hit.emitted;
+  const SurfaceInteraction& x = *hit.si;
+  if (settings_.finalGather == 0) {  // visualise the global map: all light at x from photons
+    BSDF bsdf(x);
+    return hit.emitted + hit.beta * global_.radiance(x.p, x.ng, query_, [&](const Vec3& wi) {
+             return bsdf.eval(x.wo, wi, TransportMode::Radiance).f;
+           }, scratch);
   }
-  return L;
+  return hit.emitted + hit.beta * gather(scene, x, sampler, rays, scratch);
 }
 
 std::vector<std::string> PhotonMapper::writeExtraOutputs(const std::string& stem) const {

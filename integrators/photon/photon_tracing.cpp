@@ -7,6 +7,29 @@
 
 namespace lb {
 
+NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler, int maxDepth, uint64_t& rays) {
+  NonSpecularHit hit;
+  for (int depth = 0; depth < maxDepth; ++depth) {
+    SurfaceInteraction si;
+    ++rays;
+    if (!scene.intersect(ray, si)) {
+      for (const Light* env : scene.infiniteLights()) hit.emitted += hit.beta * env->Le(ray.d);
+      break;
+    }
+    if (si.emitter) hit.emitted += hit.beta * si.emitter->L(si.ng, si.wo);
+    if (!si.material) break;
+    if (!si.material->isDelta()) {
+      hit.si = si;
+      break;
+    }
+    auto bs = BSDF(si).sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    if (!bs) break;
+    hit.beta *= bs->weight;
+    ray = si.spawnRay(bs->wi);
+  }
+  return hit;
+}
+
 uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
                       const std::function<void(size_t, const PhotonHit&)>& visit) {
   const LightSampler& lights = scene.lightSampler();

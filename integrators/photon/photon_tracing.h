@@ -7,6 +7,8 @@
 // in chunk order: deterministic for a fixed seed whatever the thread count.
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include "core/sampler.h"
 #include "core/interaction.h"
 #include "core/scene.h"
 
@@ -21,6 +23,16 @@ struct PhotonHit {
 };
 
 constexpr size_t PhotonPathsPerChunk = 4096;
+
+// The camera side shared by photon mapping and SPPM: follow a camera ray
+// through specular (delta) bounces to the first non-specular surface,
+// collecting emission seen directly or through those bounces.
+struct NonSpecularHit {
+  Color emitted{0.f};                     // radiance reached along the way
+  Color beta{1.f};                        // throughput of the specular chain
+  std::optional<SurfaceInteraction> si;   // the surface, if one was reached
+};
+NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler, int maxDepth, uint64_t& rays);
 
 // Calls visit(chunk, hit) for each non-specular hit of `paths` photon paths
 // (path i uses random numbers seeded by (seed, i, pass)). Returns the number

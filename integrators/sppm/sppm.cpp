@@ -80,27 +80,11 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
     sampler.start(uint64_t(y) * W + x, pass);
     Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
-    Color L(0.f), beta(1.f);
-    VisiblePoint& vp = vps[size_t(y) * W + x];
-    for (int depth = 0; depth < settings_.maxDepth; ++depth) {
-      SurfaceInteraction si;
-      ++rays;
-      if (!scene.intersect(ray, si)) {
-        for (const Light* env : scene.infiniteLights()) L += beta * env->Le(ray.d);
-        break;
-      }
-      if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo);
-      if (!si.material) break;
-      BSDF bsdf(si);
-      if (!bsdf.isDelta()) {  // the visible point: direct light by NEE here
-        if (auto d = sampleDirectLight(scene, si, bsdf, sampler, rays)) L += beta * d->contribution;
-        vp = {si, beta, true};
-        break;
-      }
-      auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
-      if (!bs) break;
-      beta *= bs->weight;
-      ray = si.spawnRay(bs->wi);
+    NonSpecularHit hit = traceToNonSpecular(scene, ray, sampler, settings_.maxDepth, rays);
+    Color L = hit.emitted;
+    if (hit.si) {  // the visible point: direct light by NEE here
+      if (auto d = sampleDirectLight(scene, *hit.si, BSDF(*hit.si), sampler, rays)) L += hit.beta * d->contribution;
+      vps[size_t(y) * W + x] = {*hit.si, hit.beta, true};
     }
     direct.add(x, y, L, pass, film);
   });

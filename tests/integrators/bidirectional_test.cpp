@@ -85,12 +85,7 @@ TEST(Bidirectional, AgreeUnderDirectionalSpotAndEnvironmentLights) {
 }
 
 TEST(LightTracer, PointLightOverDiffusePlaneIsAnalytic) {
-  std::string scene = "camera: {position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, -1], fov: 40}\n"
-                      "film: {width: 16, height: 16}\n"
-                      "materials: {m: {type: diffuse, albedo: 0.5}}\n"
-                      "shapes: [{type: rectangle, material: m, transform: {scale: 10, rotate_x: -90}}]\n"
-                      "lights: [{type: point, position: [0.3, 2, 0.2], intensity: 10}]\n";
-  SceneFile sf = loadSceneFromString(scene, "point-plane.yaml");
+  SceneFile sf = loadSceneFromString(PointLightPlaneScene, "point-plane.yaml");
   auto film = renderScene(sf, {"light", "{max_depth: 2}", 256, 4});
   EXPECT_TRUE(meanMatches(*film, pointLightOverPlane(sf.scene->camera, Vec3(0.3f, 2, 0.2f), 10, 0.5f), Alpha));
 }

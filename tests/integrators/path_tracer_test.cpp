@@ -62,12 +62,7 @@ TEST(PathTracer, PointLightOverDiffusePlaneIsAnalytic) {
   // light only (max_depth 2). The camera looks straight down, so the exact
   // value per pixel is computed from its ray.
   const float rho = 0.5f, I = 10.f, h = 2.f;
-  std::string scene = "camera: {position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, -1], fov: 40}\n"
-                      "film: {width: 16, height: 16}\n"
-                      "materials: {m: {type: diffuse, albedo: 0.5}}\n"
-                      "shapes: [{type: rectangle, material: m, transform: {scale: 10, rotate_x: -90}}]\n"
-                      "lights: [{type: point, position: [0.3, 2, 0.2], intensity: 10}]\n";
-  SceneFile sf = loadSceneFromString(scene, "point-plane.yaml");
+  SceneFile sf = loadSceneFromString(PointLightPlaneScene, "point-plane.yaml");
   auto film = renderScene(sf, {"path", "{max_depth: 2}", 32, 2});
   double exact = pointLightOverPlane(sf.scene->camera, Vec3(0.3f, h, 0.2f), I, rho);
   EXPECT_TRUE(meanMatches(*film, exact, Alpha));

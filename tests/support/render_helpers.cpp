@@ -98,6 +98,13 @@ std::vector<bool> diffusePrimaryHits(const Scene& scene) {
                                        << " (critical " << critical << ", sd of mean " << std::sqrt(varMean) << ")";
 }
 
+const char* const PointLightPlaneScene =
+    "camera: {position: [0, 3, 0], look_at: [0, 0, 0], up: [0, 0, -1], fov: 40}\n"
+    "film: {width: 16, height: 16}\n"
+    "materials: {m: {type: diffuse, albedo: 0.5}}\n"
+    "shapes: [{type: rectangle, material: m, transform: {scale: 10, rotate_x: -90}}]\n"
+    "lights: [{type: point, position: [0.3, 2, 0.2], intensity: 10}]\n";
+
 double pointLightOverPlane(const Camera& cam, Vec3 light, float I, float rho) {
   double exact = 0;
   const int q = 8;  // 8×8 midpoint rule per pixel: error far below the MC error of these tests

@@ -42,6 +42,9 @@ std::vector<bool> diffusePrimaryHits(const Scene& scene);
 ::testing::AssertionResult meanMatches(const Film& film, double expected, double alpha, int channel = 0, int x0 = 0,
                                        int y0 = 0, int x1 = -1, int y1 = -1);
 
+// A 16×16 camera looking straight down at a diffuse plane (albedo 0.5) lit by
+// a point light of intensity 10 at (0.3, 2, 0.2): the analytic test scene.
+extern const char* const PointLightPlaneScene;
 // Exact pixel-averaged radiance of a diffuse plane y = 0 (albedo rho) under a
 // point light (intensity I) for `camera`, by dense quadrature of ρIcosθ/(πr²).
 double pointLightOverPlane(const Camera& camera, Vec3 light, float intensity, float rho);
