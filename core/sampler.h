@@ -15,6 +15,8 @@ class Sampler {
   virtual float get1D() = 0;
   virtual Vec2 get2D() = 0;
   virtual std::unique_ptr<Sampler> clone() const = 0;
+  // The run's seed: integrators derive other random streams (photons) from it.
+  virtual uint64_t seed() const = 0;
 };
 
 class IndependentSampler final : public Sampler {
@@ -24,6 +26,7 @@ class IndependentSampler final : public Sampler {
   float get1D() override { return rng_.next1D(); }
   Vec2 get2D() override { return rng_.next2D(); }
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<IndependentSampler>(*this); }
+  uint64_t seed() const override { return seed_; }
 
  private:
   uint64_t seed_;
@@ -42,6 +45,7 @@ class StratifiedSampler final : public Sampler {
   float get1D() override;
   Vec2 get2D() override;
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<StratifiedSampler>(*this); }
+  uint64_t seed() const override { return seed_; }
 
  private:
   uint32_t stratum(uint32_t count);

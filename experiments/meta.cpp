@@ -2,6 +2,7 @@
 #include <OpenEXR/OpenEXRConfig.h>
 #include <OpenMesh/Core/System/config.h>
 #include <embree3/rtcore_config.h>
+#include <flann/config.h>
 #include <glm/detail/setup.hpp>
 #include <tbb/version.h>
 #include <unistd.h>
@@ -118,7 +119,8 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
   j << "\n  ],\n  \"libraries\": {\"embree\": " << jsonString(RTC_VERSION_STRING) << ", \"tbb\": "
     << jsonString(TBB_VERSION_STRING) << ", \"openexr\": " << jsonString(OPENEXR_VERSION_STRING)
     << ", \"glm\": " << GLM_VERSION << ", \"openmesh\": " << jsonString(std::to_string(OM_VERSION >> 16) + "." + std::to_string((OM_VERSION >> 8) & 0xff))
-    << ", \"yaml-cpp\": \"0.7 (Debian 12)\"},\n";
+    << ", \"flann\": " << jsonString(FLANN_VERSION_)
+    << ", \"yaml-cpp\": \"0.7 (Debian 12's package; the library has no version macro)\"},\n";
   j << "  \"experiment_source\": " << jsonString(yamlText(e.source)) << "\n}\n";
   return j.str();
 }

@@ -228,17 +228,24 @@ def write_report(run_dir, grouped, plots, meta):
         for name in ("rmse_vs_time", "rmse_vs_spp", "efficiency"):
             if name in plots.get(scene, {}):
                 parts.append(f"<img src='{data_uri(plots[scene][name])}' style='max-width:680px'>")
+        # The experiment's `metrics` list chooses the metric columns (RMSE is
+        # always shown: the plots, time-to-best and efficiency are built on it).
+        chosen = meta.get("metrics") or ["rmse", "relmse", "mape", "variance"]
+        columns = [("relmse", "relMSE", "{:.4g}"), ("mape", "MAPE %", "{:.3g}"), ("variance", "variance", "{:.3g}")]
+        columns = [c for c in columns if c[0] in chosen]
         parts.append(
-            "<table><tr><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th><th>relMSE</th>"
-            "<th>MAPE %</th><th>variance</th><th>time s</th><th>preprocess s</th><th>spp</th>"
+            "<table><tr><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th>"
+            + "".join(f"<th>{c[1]}</th>" for c in columns)
+            + "<th>time s</th><th>preprocess s</th><th>spp</th>"
             "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/Inf</th></tr>"
         )
         for label, t in sorted(table.items(), key=lambda kv: kv[1]["rmse"]):
             reach = f"{t['time_to_best']:.3g} s" if t["time_to_best"] is not None else "not reached"
             parts.append(
                 f"<tr><td>{html.escape(label)}</td><td>{html.escape(t['integrator'])}</td>"
-                f"<td>{t['rmse']:.4g} ± {t['rmse_sd']:.2g}</td><td>{t['relmse']:.4g}</td><td>{t['mape']:.3g}</td>"
-                f"<td>{t['variance']:.3g}</td><td>{t['time']:.3g}</td><td>{t['preprocess']:.3g}</td>"
+                f"<td>{t['rmse']:.4g} ± {t['rmse_sd']:.2g}</td>"
+                + "".join(f"<td>{c[2].format(t[c[0]])}</td>" for c in columns)
+                + f"<td>{t['time']:.3g}</td><td>{t['preprocess']:.3g}</td>"
                 f"<td>{t['spp']:.0f}</td><td>{reach}</td><td>{t['relative_efficiency']:.3g}</td>"
                 f"<td>{t['nonfinite']}</td></tr>"
             )

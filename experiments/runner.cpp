@@ -254,7 +254,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                  es.crop.empty() ? "" : fmt(mc.mape), final ? "1" : "0"});
       std::lock_guard<std::mutex> lock(progressMutex);
       double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
-      double perRun = timeBudget ? e.budget.seconds : 0;
+      // Per run: the time budget, or (sample budgets) the mean of finished runs.
+      double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
       double eta = perRun > 0 ? perRun * double(tasks.size() - done) / jobs - (final ? 0 : seconds) : 0;
       std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s  (elapsed %s%s)\n",
                    done.load() + 1, tasks.size(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1,

@@ -65,9 +65,10 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
       double fraction = budget.spp > 0 ? double(report.passes) / double(budget.spp) : 0;
       if (budget.seconds > 0) fraction = std::max(fraction, t / budget.seconds);
       double eta = fraction > 0 ? t / fraction - t : 0;
-      std::fprintf(stderr, "%s[%3d%%] %llu spp, %.2f Mrays/s, ETA %s%s", tty ? "\r" : "", int(100 * std::min(1.0, fraction)),
-                   (unsigned long long)report.passes, double(stats.rays.load()) / std::max(t, 1e-9) * 1e-6,
-                   formatSeconds(eta).c_str(), tty ? "   " : "\n");
+      double samplesPerSecond = double(report.passes) * film.width() * film.height() / std::max(t, 1e-9);
+      std::fprintf(stderr, "%s[%3d%%] %llu spp, %.2f Msamples/s, %.2f Mrays/s, ETA %s%s", tty ? "\r" : "",
+                   int(100 * std::min(1.0, fraction)), (unsigned long long)report.passes, samplesPerSecond * 1e-6,
+                   double(stats.rays.load()) / std::max(t, 1e-9) * 1e-6, formatSeconds(eta).c_str(), tty ? "   " : "\n");
       std::fflush(stderr);
     }
   }

@@ -44,13 +44,12 @@ PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int ma
 }
 
 void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
-  (void)prototype;
   scene_ = &scene;
   query_ = settings_.query;
   query_.maxRadius = settings_.maxRadius > 0 ? settings_.maxRadius : 0.05f * scene.bounds().radius();
-  // The photon seed is fixed per scene and settings, so every pass and repeat
-  // of a run shares the maps' randomness only through this one preprocess.
-  uint64_t seed = 0x5eed;
+  // Photon streams derive from the run's seed: repeats with distinct seeds
+  // get independent photon maps, so their spread measures the estimator's.
+  uint64_t seed = hashValues(prototype.seed(), 0x5eed);
   global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.maxDepth, false);
   caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.maxDepth, true);
   if (settings_.stats)

@@ -110,7 +110,7 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   size_t chunks = (M + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
   std::vector<std::vector<Deposit>> deposits(chunks);
   if (!positions.empty())
-    stats.rays += tracePhotons(scene, 0x5995eedULL, pass, M, settings_.maxDepth, [&](size_t c, const PhotonHit& h) {
+    stats.rays += tracePhotons(scene, hashValues(prototype.seed(), 0x5995eedULL), pass, M, settings_.maxDepth, [&](size_t c, const PhotonHit& h) {
       if (h.bounces == 0) return;  // direct light comes from NEE
       thread_local std::vector<std::pair<size_t, float>> found;
       found.clear();

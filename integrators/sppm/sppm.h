@@ -24,10 +24,11 @@
 // reads one cell; `flann` searches a kd-tree over the visible points at the
 // largest radius and filters by each point's own radius. Measured with
 // `lightbench_bench --benchmark_filter=Sppm` (README): one pass on the Cornell
-// box with spheres at 128², 100k photons: grid 50.1 ms, FLANN 48.9 ms — equal
-// within noise; at 256² (20 passes, `lightbench render`) grid 1.79 s, FLANN
-// 1.96 s. The grid is the default: never slower here, and the simpler
-// structure. Both find the same points (a test checks bit-identical images).
+// box with spheres at 128², 100k photons: grid 50.1 ms, FLANN 48.9 ms (FLANN
+// 2 % faster, within run-to-run noise); at 256² (20 passes, `lightbench
+// render`) grid 1.79 s, FLANN 1.96 s (grid 9 % faster). A tie overall; the
+// grid is the default as the simpler structure with no kd-tree build. Both
+// find the same points (a test checks bit-identical images).
 #include "core/params.h"
 #include "integrators/integrator.h"
 

@@ -177,6 +177,9 @@ void FlannIndex(benchmark::State& state, Params params, float eps) {
 }
 BENCHMARK_CAPTURE(FlannIndex, single_kdtree_exact, flann::KDTreeSingleIndexParams(10), 0.f)
     ->Arg(100000)->Arg(1000000)->Arg(10000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+// (An exact search over a randomised forest is not benchmarked: FLANN warns
+// on every query that more than one tree makes no sense for exact search.
+// Measured once: 61 k queries/s at 1e5, 7.6 k at 1e6 — README.)
 BENCHMARK_CAPTURE(FlannIndex, randomised_forest4_approx, flann::KDTreeIndexParams(4), 0.1f)
     ->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK_CAPTURE(FlannIndex, single_kdtree_approx_eps, flann::KDTreeSingleIndexParams(10), 0.5f)
