@@ -1,5 +1,6 @@
 // Camera and light subpaths for BDPT (pbrt-v3 §16.3.2 with Russian roulette).
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/emission.h"
 
 namespace lb::bdpt {
 
@@ -73,17 +74,13 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const BdptSettin
 
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, std::vector<Vertex>& path,
                          uint64_t& rays) {
-  const LightSampler& lights = scene.lightSampler();
-  if (lights.empty() || maxSegments(s) < 1) return 0;
-  float pmf;
-  const Light* light = lights.sample(sampler.get1D(), &pmf);
-  float uPick = sampler.get1D();
-  Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
-  auto e = light->sampleLe(uPick, uPos, uDir);
-  if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) return 0;
-  path[0] = lightVertex(light, e->p, e->n, e->pError, e->Le, e->pdfPos * pmf);
-  float cos = glm::dot(e->n, e->n) > 0 ? absDot(e->n, e->ray.d) : 1.f;
-  Color beta = e->Le * cos / (pmf * e->pdfPos * e->pdfDir);
+  if (maxSegments(s) < 1) return 0;
+  auto emitted = sampleEmission(scene, sampler);
+  if (!emitted) return 0;
+  const Light* light = emitted->light;
+  const LightEmission* e = &emitted->emission;
+  path[0] = lightVertex(light, e->p, e->n, e->pError, e->Le, e->pdfPos * emitted->pmf);
+  Color beta = emitted->beta;
   // The light subpath needs at most max_depth vertices (s + t - 1 <= max_depth with t >= 1).
   int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, std::min(maxSegments(s) - 1, int(path.size()) - 1),
                          TransportMode::Importance, path, 1, rays);

@@ -2,6 +2,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include "core/bsdfs/bsdf.h"
+#include "integrators/emission.h"
 
 namespace lb {
 
@@ -39,18 +40,14 @@ void LightTracer::renderPass(const Scene& scene, Film& film, const Sampler& prot
 }
 
 void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Splat>& splats, uint64_t& rays) const {
-  const LightSampler& lights = scene.lightSampler();
   const Camera& camera = scene.camera;
-  if (lights.empty()) return;
   int maxDepth = settings_.length.maxSegments();
   if (maxDepth < 1) return;
-  float pmf;
-  const Light* light = lights.sample(sampler.get1D(), &pmf);
-  float uPick = sampler.get1D();
-  Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
-  auto e = light->sampleLe(uPick, uPos, uDir);
-  if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) return;
-  bool pointLike = glm::dot(e->n, e->n) == 0;
+  auto emitted = sampleEmission(scene, sampler);
+  if (!emitted) return;
+  const Light* light = emitted->light;
+  const LightEmission* e = &emitted->emission;
+  float pmf = emitted->pmf;
 
   // s = 1, t = 1: the point on an area light seen directly by the camera.
   if (!light->isDelta() && !light->isInfinite()) {
@@ -66,7 +63,7 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
     }
   }
 
-  Color beta = e->Le * (pointLike ? 1.f : absDot(e->n, e->ray.d)) / (pmf * e->pdfPos * e->pdfDir);
+  Color beta = emitted->beta;
   Ray ray = e->ray;
   for (int segments = 1;; ++segments) {
     SurfaceInteraction si;

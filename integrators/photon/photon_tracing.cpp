@@ -4,6 +4,7 @@
 #include <atomic>
 #include "core/bsdfs/bsdf.h"
 #include "core/sampler.h"
+#include "integrators/emission.h"
 
 namespace lb {
 
@@ -43,15 +44,10 @@ uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t p
     for (size_t c = range.begin(); c != range.end(); ++c)
       for (size_t i = c * PhotonPathsPerChunk; i < std::min(paths, (c + 1) * PhotonPathsPerChunk); ++i) {
         sampler.start(i, pass);
-        float pmf;
-        const Light* light = lights.sample(sampler.get1D(), &pmf);
-        float uPick = sampler.get1D();
-        Vec2 uPos = sampler.get2D(), uDir = sampler.get2D();
-        auto e = light->sampleLe(uPick, uPos, uDir);
-        if (!e || e->pdfPos == 0 || e->pdfDir == 0 || isBlack(e->Le)) continue;
-        float cos = glm::dot(e->n, e->n) > 0 ? absDot(e->n, e->ray.d) : 1.f;
-        Color beta = e->Le * cos / (pmf * e->pdfPos * e->pdfDir);
-        Ray ray = e->ray;
+        auto emitted = sampleEmission(scene, sampler);
+        if (!emitted) continue;
+        Color beta = emitted->beta;
+        Ray ray = emitted->emission.ray;
         bool specularChain = true;
         for (int bounces = 0; bounces < maxBounces; ++bounces) {
           SurfaceInteraction si;
