@@ -1,5 +1,6 @@
 #include "integrators/registry.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
 #include "integrators/path/path_tracer.h"
 #include "integrators/photon/photon_integrator.h"
@@ -19,6 +20,8 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<PhotonMapper>(PhotonSettings::read(p)); }},
       {"sppm", "stochastic progressive photon mapping: per-pixel radius reduction, consistent",
        [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }},
+      {"irradiance_cache", "irradiance caching with gradients (Ward 1988/1992): path or photon-map base estimator",
+       [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }},
   };
   return table;
 }

@@ -60,6 +60,11 @@ float hemispherePdf(DirectionSampling strategy, const BSDF& bsdf, const Vec3& wo
 }  // namespace
 
 Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
+  return incidentRadiance(cameraRay, scene, sampler, rays, settings_.length.maxSegments(), true);
+}
+
+Color PathTracer::incidentRadiance(const Ray& cameraRay, const Scene& scene, Sampler& sampler, uint64_t& rays,
+                                   int maxDepth, bool firstEmission, float* firstHitDistance) const {
   Color L(0.f), beta(1.f);
   Ray ray = cameraRay;
   float etaScale = 1;        // removes radiance's 1/η² scaling from roulette decisions
@@ -67,12 +72,14 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
   float prevPdf = 0;         // solid-angle pdf of the direction that generated `ray`
   Vec3 prevPoint = ray.o;
   const LightSampler& lights = scene.lightSampler();
-  int maxDepth = settings_.length.maxSegments();
+  if (firstHitDistance) *firstHitDistance = Infinity;
 
   for (int segments = 1; segments <= maxDepth; ++segments) {
     SurfaceInteraction si;
     ++rays;
     bool hit = scene.intersect(ray, si);
+    if (segments == 1 && hit && firstHitDistance) *firstHitDistance = si.t;
+    bool countEmission = segments > 1 || firstEmission;
 
     // Emission reached by this segment, MIS-weighted against NEE (Veach Eq. 9.13).
     auto emissionWeight = [&](const Light* light, float pdfLi) {
@@ -81,13 +88,14 @@ Color PathTracer::Li(const Ray& cameraRay, const Scene& scene, Sampler& sampler,
       return misWeight(prevPdf, lights.pmf(light) * pdfLi);
     };
     if (!hit) {
+      if (!countEmission) break;
       for (const Light* env : scene.infiniteLights()) {
         Color Le = env->Le(ray.d);
         if (!isBlack(Le)) L += beta * Le * emissionWeight(env, env->pdfLi(prevPoint, ray.d, {}, {}));
       }
       break;
     }
-    if (si.emitter) {
+    if (si.emitter && countEmission) {
       Color Le = si.emitter->L(si.ng, si.wo);
       if (!isBlack(Le)) L += beta * Le * emissionWeight(si.emitter, si.emitter->pdfLi(prevPoint, ray.d, si.p, si.ng));
     }

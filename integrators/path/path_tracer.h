@@ -31,6 +31,15 @@ class PathTracer final : public PixelIntegrator {
  public:
   explicit PathTracer(PathTracerSettings s) : settings_(s) {}
 
+  // Radiance arriving along `ray` over paths of at most `maxSegments`
+  // segments. Without `firstEmission`, the emission of the first surface hit
+  // (or of the environment, if the ray escapes) is left out: the caller counts
+  // that light itself (the irradiance cache's records gather only indirect
+  // light). `firstHitDistance`, if given, receives the first hit's distance
+  // (infinity if the ray escapes).
+  Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
+                         bool firstEmission, float* firstHitDistance = nullptr) const;
+
  protected:
   Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override;
 

@@ -1,0 +1,295 @@
+#include "integrators/irradiance_cache/irradiance_cache_integrator.h"
+#include <chrono>
+#include <iostream>
+#include "core/bsdfs/bsdf.h"
+#include "core/image.h"
+#include "integrators/direct_light.h"
+#include "integrators/photon/photon_integrator.h"
+#include "integrators/pixel_tiles.h"
+
+namespace lb {
+
+IrradianceCacheSettings IrradianceCacheSettings::read(Params& p) {
+  IrradianceCacheSettings s;
+  s.cache.a = p.getFloat("a", 0.15f);
+  if (!(s.cache.a > 0)) p.fail("a", "must be positive");
+  s.cache.spacingInPixels = p.getChoice("spacing", "pixels", {"pixels", "world"}) == "pixels";
+  s.cache.minSpacing = p.getFloat("min_spacing", 2);
+  if (s.cache.minSpacing < 0) p.fail("min_spacing", "must not be negative");
+  s.cache.maxSpacing = p.getFloat("max_spacing", 64);
+  if (!(s.cache.maxSpacing >= s.cache.minSpacing) || !(s.cache.maxSpacing > 0))
+    p.fail("max_spacing", "must be positive and at least min_spacing");
+  s.strata.theta = p.getInt("theta_strata", 16);
+  if (s.strata.theta < 1) p.fail("theta_strata", "must be at least 1");
+  s.strata.phi = p.getInt("phi_strata", 48);
+  if (s.strata.phi < 1) p.fail("phi_strata", "must be at least 1");
+  s.cache.gradients = p.getBool("gradients", true);
+  s.cache.neighbourClamping = p.getBool("neighbour_clamping", true);
+  s.prepassLevels = p.getInt("prepass_levels", 3);
+  if (s.prepassLevels < 0 || s.prepassLevels > 8) p.fail("prepass_levels", "must be between 0 and 8");
+  s.base = p.getChoice("base", "path", {"path", "photon"}) == "path" ? CacheBase::Path : CacheBase::Photon;
+  s.recordImage = p.getBool("record_image", true);
+  s.length = PathLength::read(p);
+  if (s.base == CacheBase::Photon) {  // read only here: with base path these keys are rejected as unknown
+    int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
+    if (global < 0) p.fail("global_photons", "must not be negative");
+    if (caustic < 0) p.fail("caustic_photons", "must not be negative");
+    s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
+    int k = p.getInt("k", 30);
+    if (k < 1) p.fail("k", "must be at least 1");
+    s.query.k = size_t(k);
+    s.maxRadius = p.getFloat("max_radius", 0);
+    if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
+  }
+  p.checkUnused();
+  return s;
+}
+
+namespace {
+PathTracerSettings baseEstimator(const PathLength& length) {
+  PathTracerSettings s;  // BSDF sampling, NEE, power-heuristic MIS
+  s.length = length;
+  return s;
+}
+// Only purely Lambertian surfaces are cached (f does not depend on directions).
+bool isCached(const BSDF& bsdf) { return bsdf.flags() == (BSDFReflection | BSDFDiffuse); }
+// Sample indices reserved for the prepass levels, far from any render pass.
+constexpr uint64_t PrepassSample = uint64_t(1) << 48;
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+IrradianceCacheIntegrator::IrradianceCacheIntegrator(IrradianceCacheSettings s)
+    : settings_(s), base_(baseEstimator(s.length)) {}
+
+void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& prototype) {
+  scene_ = &scene;
+  seed_ = prototype.seed();
+  cache_ = std::make_unique<IrradianceCache>(settings_.cache, scene.bounds());
+  stats_ = {};
+  const Camera& cam = scene.camera;
+  Vec2 centre(0.5f * cam.width(), 0.5f * cam.height());
+  pixelAngle_ = std::acos(std::min(1.f, glm::dot(cam.generateRay(centre).d, cam.generateRay(centre + Vec2(1, 0)).d)));
+  if (settings_.base == CacheBase::Photon) {
+    query_ = settings_.query;
+    query_.maxRadius = settings_.maxRadius > 0 ? settings_.maxRadius : 0.05f * scene.bounds().radius();
+    uint64_t seed = hashValues(seed_, 0x1cac4e);
+    global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.length.maxSegments(), false);
+    caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.length.maxSegments(), true);
+  }
+  // Lazy creation, coarse to fine (Tabellion & Lamorlette 2004): sparse pixels
+  // first, so the records they create cover most of the image before the
+  // full-resolution passes need them.
+  auto t0 = std::chrono::steady_clock::now();
+  PassStats ignored;
+  for (int level = settings_.prepassLevels; level >= 1; --level)
+    runPass(nullptr, 1 << level, PrepassSample + uint64_t(level), prototype, ignored, {});
+  stats_.prepassRecords = cache_->size();
+  stats_.prepassSeconds = secondsSince(t0);
+}
+
+void IrradianceCacheIntegrator::runPass(const Film* film, int stride, uint64_t sampleIndex, const Sampler& prototype,
+                                        PassStats& stats, const std::function<void(int, int, const Color&)>& result) {
+  const Camera& cam = scene_->camera;
+  int w = (cam.width() + stride - 1) / stride, h = (cam.height() + stride - 1) / stride;
+  std::vector<LocalRecords> tiles(size_t(tileCount(w, h)));
+  forEachPixel(w, h, prototype, stats, [&](int tile, int i, int j, Sampler& sampler, uint64_t& rays) {
+    int x = std::min(i * stride + stride / 2, cam.width() - 1), y = std::min(j * stride + stride / 2, cam.height() - 1);
+    uint64_t pixel = uint64_t(y) * cam.width() + x;
+    sampler.start(pixel, sampleIndex);
+    Vec2 jitter = film ? sampler.get2D() : Vec2(0.5f);
+    Color L = Li(cam.generateRay(Vec2(x, y) + jitter), sampler, hashValues(seed_, pixel, sampleIndex), tiles[tile], rays);
+    if (result) result(x, y, L);
+  });
+  for (const LocalRecords& t : tiles) {
+    stats_.lookups += t.lookups, stats_.hits += t.hits;
+    stats_.lookupSeconds += t.lookupSeconds, stats_.recordSeconds += t.recordSeconds;
+    stats_.nonFiniteIncident += t.nonFinite;
+  }
+  cache_->merge(tiles);
+}
+
+void IrradianceCacheIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
+                                          PassStats& stats) {
+  scene_ = &scene;
+  film_ = &film;
+  runPass(&film, 1, pass, prototype, stats, [&](int x, int y, const Color& L) { film.addSample(x, y, pass, L); });
+}
+
+std::optional<Color> IrradianceCacheIntegrator::replaySample(const Scene& scene, const Sampler& prototype, int x,
+                                                             int y, uint64_t sample) {
+  if (!cache_) preprocess(scene, prototype);
+  auto sampler = prototype.clone();
+  uint64_t pixel = uint64_t(y) * scene.camera.width() + x, rays = 0;
+  sampler->start(pixel, sample);
+  Vec2 jitter = sampler->get2D();
+  LocalRecords local;  // the replay sees the prepass's records only
+  return Li(scene.camera.generateRay(Vec2(x, y) + jitter), *sampler, hashValues(seed_, pixel, sample), local, rays);
+}
+
+Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint64_t key, LocalRecords& local,
+                                    uint64_t& rays) const {
+  const Scene& scene = *scene_;
+  const LightSampler& lights = scene.lightSampler();
+  Color L(0.f), beta(1.f);
+  Ray ray = cameraRay;
+  bool prevDelta = true;
+  float prevPdf = 0, etaScale = 1;
+  Vec3 prevPoint = ray.o;
+  int maxDepth = settings_.length.maxSegments();
+  for (int segments = 1; segments <= maxDepth; ++segments) {
+    SurfaceInteraction si;
+    ++rays;
+    bool hit = scene.intersect(ray, si);
+    auto emissionWeight = [&](const Light* light, float pdfLi) {
+      return prevDelta ? 1.f : powerHeuristic(prevPdf, lights.pmf(light) * pdfLi);
+    };
+    if (!hit) {
+      for (const Light* env : scene.infiniteLights())
+        L += beta * env->Le(ray.d) * emissionWeight(env, env->pdfLi(prevPoint, ray.d, {}, {}));
+      break;
+    }
+    if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo) * emissionWeight(si.emitter, si.emitter->pdfLi(prevPoint, ray.d, si.p, si.ng));
+    if (segments == maxDepth || !si.material) break;
+    BSDF bsdf(si);
+
+    if (isCached(bsdf)) {
+      // Direct light by NEE alone: no BSDF-sampled ray leaves x to be its MIS partner.
+      if (auto d = sampleDirectLight(scene, si, bsdf, sampler, rays)) L += beta * d->contribution;
+      Vec3 n = glm::dot(si.wo, bsdf.shadingNormal()) < 0 ? -bsdf.shadingNormal() : bsdf.shadingNormal();
+      thread_local std::vector<std::pair<size_t, float>> scratch;
+      if (settings_.base == CacheBase::Photon)
+        L += beta * caustic_.radiance(si.p, si.ng, query_, [&](const Vec3& wi) { return bsdf.eval(si.wo, wi, TransportMode::Radiance).f; }, scratch);
+      Color E = irradiance(si, n, key, maxDepth - segments, local, rays);
+      L += beta * bsdf.eval(si.wo, n, TransportMode::Radiance).f * E;
+      break;
+    }
+
+    // Glossy and specular surfaces: as in the path tracer (NEE + power-heuristic MIS).
+    if (!bsdf.isDelta())
+      if (auto d = sampleDirectLight(scene, si, bsdf, sampler, rays))
+        L += beta * d->contribution * (d->deltaLight ? 1.f : powerHeuristic(d->lightPdf, d->bsdfPdf));
+    float uLobe = sampler.get1D();
+    auto bs = bsdf.sample(si.wo, uLobe, sampler.get2D(), TransportMode::Radiance);
+    if (!bs) break;
+    beta *= bs->weight;
+    if (bs->lobe & BSDFTransmission) etaScale *= sqr(bs->eta);
+    prevPdf = bs->pdf;
+    prevDelta = bs->isDelta();
+    prevPoint = si.p;
+    ray = si.spawnRay(bs->wi);
+    if (isBlack(beta)) break;
+    if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
+      float survive = std::min(1.f, maxComponent(beta) * etaScale);
+      if (survive < 1) {
+        if (sampler.get1D() >= survive) break;
+        beta /= survive;
+      }
+    }
+  }
+  return L;
+}
+
+Color IrradianceCacheIntegrator::irradiance(const SurfaceInteraction& si, const Vec3& n, uint64_t key,
+                                            int segmentsLeft, LocalRecords& local, uint64_t& rays) const {
+  if (segmentsLeft < 2) return Color(0.f);  // x → y → light needs two more segments
+  auto t0 = std::chrono::steady_clock::now();
+  Color E;
+  bool found = cache_->interpolate(si.p, n, local, E);
+  local.lookupSeconds += secondsSince(t0);
+  ++local.lookups;
+  if (found) {
+    ++local.hits;
+    return E;
+  }
+  t0 = std::chrono::steady_clock::now();
+  SurfaceInteraction at = si;
+  at.wo = glm::dot(si.wo, n) > 0 ? si.wo : -si.wo;
+  IrradianceRecord r = computeRecordAt(at, key, segmentsLeft, rays, &local.nonFinite);
+  float worldPerPixel = pixelAngle_ * glm::length(si.p - scene_->camera.position());
+  cache_->clampRadius(r, worldPerPixel);
+  local.records.push_back(r);
+  local.recordSeconds += secondsSince(t0);
+  return r.E;
+}
+
+IrradianceRecord IrradianceCacheIntegrator::computeRecordAt(const SurfaceInteraction& si, uint64_t key,
+                                                            int segmentsLeft, uint64_t& rays, uint64_t* dropped) const {
+  Vec3 ns = si.shading.n;
+  Vec3 n = glm::dot(si.wo, ns) < 0 ? -ns : ns;
+  Pcg32 rng(key, 0x7ec0);
+  IndependentSampler sampler(seed_);
+  IrradianceRecord r = computeRecord(
+      si.p, n, settings_.strata, rng, [&](const Vec3& d) { return si.spawnRay(d); },
+      [&](const Ray& ray, uint64_t direction) {
+        sampler.start(key, direction);
+        IncidentSample s;
+        if (settings_.base == CacheBase::Photon)
+          s = photonIncident(ray, sampler, rays);
+        else
+          s.L = base_.incidentRadiance(ray, *scene_, sampler, rays, segmentsLeft, false, &s.distance);
+        if (!std::isfinite(s.L.r + s.L.g + s.L.b)) {  // never let one sample poison a record
+          s.L = Color(0.f);
+          if (dropped) ++*dropped;
+        }
+        return s;
+      });
+  return r;
+}
+
+IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& first, Sampler& sampler, uint64_t& rays) const {
+  // As photon mapping's final gather: through specular surfaces to the first
+  // non-specular one, whose reflected radiance the global map estimates.
+  // Emitters reached directly are direct light, counted by NEE at x.
+  thread_local std::vector<std::pair<size_t, float>> scratch;
+  IncidentSample s;
+  Ray ray = first;
+  Color weight(1.f);
+  for (int bounce = 0; bounce < settings_.length.maxSegments(); ++bounce) {
+    SurfaceInteraction y;
+    ++rays;
+    if (!scene_->intersect(ray, y)) return s;
+    if (bounce == 0) s.distance = y.t;
+    if (!y.material) return s;
+    BSDF at(y);
+    if (!at.isDelta()) {
+      s.L = weight * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch);
+      return s;
+    }
+    auto bs = at.sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    if (!bs) return s;
+    weight *= bs->weight;
+    ray = y.spawnRay(bs->wi);
+  }
+  return s;
+}
+
+std::vector<std::string> IrradianceCacheIntegrator::writeExtraOutputs(const std::string& stem) const {
+  if (!cache_) return {};
+  const IrradianceCacheStats& s = stats_;
+  std::cerr << "irradiance cache: " << cache_->size() << " records (" << s.prepassRecords << " from the prepass in "
+            << s.prepassSeconds << " s); " << double(cache_->size()) / std::max(s.recordSeconds, 1e-9)
+            << " records/s per thread; " << s.lookups << " lookups, " << double(s.lookups) / std::max(s.lookupSeconds, 1e-9)
+            << " lookups/s per thread; hit rate " << 100.0 * double(s.hits) / double(std::max<uint64_t>(s.lookups, 1))
+            << " %";
+  if (s.nonFiniteIncident) std::cerr << "; " << s.nonFiniteIncident << " NaN/Inf hemisphere samples dropped";
+  std::cerr << "\n";
+  if (!settings_.recordImage || !film_) return {};
+  // The render in grey, each record's position (seen directly from the camera) in red.
+  Image img = film_->image();
+  for (Color& c : img.pixels) c = Color(0.5f * luminance(c));
+  const Camera& cam = scene_->camera;
+  for (const IrradianceRecord& r : cache_->records()) {
+    auto c = cam.connect(r.p);
+    if (!c) continue;
+    if (scene_->occluded(Ray{c->pinhole, r.p - c->pinhole, 1 - 1e-3f})) continue;
+    int x = int(c->raster.x), y = int(c->raster.y);
+    if (x >= 0 && y >= 0 && x < img.width && y < img.height) img.at(x, y) = Color(4.f, 0.f, 0.f);
+  }
+  std::string path = stem + "_records.png";
+  writePng(path, img);
+  return {path};
+}
+
+}  // namespace lb

@@ -1,0 +1,162 @@
+// The irradiance-cache integrator: convergence in a on the Cornell box,
+// thread-count independence, and its settings.
+#include <gtest/gtest.h>
+#include <cstring>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include "core/scene_loader.h"
+#include "integrators/render_loop.h"
+#include <yaml-cpp/yaml.h>
+#include "integrators/irradiance_cache/irradiance_cache.h"
+#include "integrators/irradiance_cache/irradiance_cache_integrator.h"
+#include "tests/support/render_helpers.h"
+#include "tests/support/statistics.h"
+
+namespace lb {
+namespace {
+using namespace lb::test;
+IrradianceCacheSettings icSettings(const std::string& yaml) {
+  Params p(YAML::Load(yaml), "<test>", "integrator");
+  return IrradianceCacheSettings::read(p);
+}
+
+// A cache built by rendering, then queried at the diffuse surfaces seen
+// through the centres of a coarse grid of pixels.
+struct SurfacePoint {
+  SurfaceInteraction si;
+  Vec3 n;  // shading normal turned towards the camera
+};
+std::vector<SurfacePoint> diffuseSurfacePoints(const Scene& scene, int step) {
+  std::vector<SurfacePoint> points;
+  const Camera& cam = scene.camera;
+  for (int y = step / 2; y < cam.height(); y += step)
+    for (int x = step / 2; x < cam.width(); x += step) {
+      SurfaceInteraction si;
+      if (!scene.intersect(cam.generateRay(Vec2(x + 0.5f, y + 0.5f)), si) || si.emitter || !si.material) continue;
+      if (si.material->flags() != (BSDFReflection | BSDFDiffuse)) continue;
+      Vec3 n = glm::dot(si.wo, si.shading.n) < 0 ? -si.shading.n : si.shading.n;
+      points.push_back({si, n});
+    }
+  return points;
+}
+
+// Reference indirect irradiance at each point: the mean of two independent
+// fine records, and the variance of that mean from their difference.
+struct ReferenceIrradiance {
+  std::vector<Color> E, varianceOfMean;
+};
+ReferenceIrradiance referenceIrradiance(const SceneFile& sf, const std::vector<SurfacePoint>& points) {
+  IrradianceCacheIntegrator fine(icSettings("{theta_strata: 64, phi_strata: 192, prepass_levels: 0}"));
+  auto sampler = makeSampler(sf.sampler, 99);
+  fine.preprocess(*sf.scene, *sampler);
+  ReferenceIrradiance ref;
+  std::vector<std::pair<Color, Color>> pairs(points.size());
+  tbb::parallel_for(size_t(0), points.size(), [&](size_t i) {
+    uint64_t rays = 0;
+    pairs[i].first = fine.computeRecordAt(points[i].si, 2 * i, 31, rays).E;
+    pairs[i].second = fine.computeRecordAt(points[i].si, 2 * i + 1, 31, rays).E;
+  });
+  for (auto& [a, b] : pairs) {
+    ref.E.push_back(0.5f * (a + b));
+    ref.varianceOfMean.push_back(0.25f * (a - b) * (a - b));  // (a−b)²/2 estimates σ²; the mean of two has σ²/2
+  }
+  return ref;
+}
+
+struct CacheError {
+  double squaredError = 0;  // mean over points and channels, reference noise removed
+  size_t records = 0, missed = 0;
+};
+CacheError cacheError(const SceneFile& sf, const std::string& params, uint64_t seed,
+                      const std::vector<SurfacePoint>& points, const ReferenceIrradiance& ref) {
+  IrradianceCacheIntegrator ic(icSettings(params));
+  Film film(sf.scene->camera.width(), sf.scene->camera.height());
+  RenderOptions options;
+  options.seed = seed;
+  options.budget.spp = 4;
+  renderLoop(*sf.scene, ic, film, sf.sampler, options);
+  CacheError e;
+  e.records = ic.cache().size();
+  LocalRecords none;
+  size_t used = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    Color E;
+    if (!ic.cache().interpolate(points[i].si.p, points[i].n, none, E)) {
+      ++e.missed;
+      continue;
+    }
+    for (int c = 0; c < 3; ++c) e.squaredError += sqr(E[c] - ref.E[i][c]) - ref.varianceOfMean[i][c];
+    ++used;
+  }
+  e.squaredError /= double(3 * std::max<size_t>(used, 1));
+  return e;
+}
+
+// Against fine path-traced records (64×192 strata, two per point), the
+// cache's irradiance error falls as a falls (interpolation blurs less) while
+// the record count grows. Three seeds per a; a step counts as "error shrinks"
+// only if every error at the smaller a is below every error at the larger
+// one: a Mann–Whitney test with U = 0, which has probability 1/20 per step if
+// a made no difference. Records use 32×96 strata so that their own noise stays
+// below the interpolation error being measured.
+TEST(IrradianceCacheCornell, ErrorShrinksAndRecordsGrowAsADecreases) {
+  SceneFile sf = loadShippedScene("cornell-box", 32, 32);
+  std::vector<SurfacePoint> points = diffuseSurfacePoints(*sf.scene, 2);
+  ReferenceIrradiance ref = referenceIrradiance(sf, points);
+  const std::vector<float> thresholds = {0.8f, 0.4f, 0.2f};
+  std::vector<std::vector<CacheError>> runs(thresholds.size());
+  for (size_t i = 0; i < thresholds.size(); ++i)
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+      runs[i].push_back(cacheError(sf, "{spacing: world, min_spacing: 0.01, max_spacing: 2, theta_strata: 32, phi_strata: 96, a: " +
+                                           std::to_string(thresholds[i]) + "}", seed, points, ref));
+      // Points between the rendered samples may find no record; the error must cover most points.
+      EXPECT_LT(runs[i].back().missed, points.size() / 5) << "a " << thresholds[i];
+    }
+  for (size_t i = 1; i < thresholds.size(); ++i) {
+    double worstSmaller = 0, bestLarger = Infinity;
+    for (int s = 0; s < 3; ++s) {
+      worstSmaller = std::max(worstSmaller, runs[i][s].squaredError);
+      bestLarger = std::min(bestLarger, runs[i - 1][s].squaredError);
+      EXPECT_GT(runs[i][s].records, runs[i - 1][s].records) << "records must grow as a falls (seed " << s + 1 << ")";
+    }
+    EXPECT_LT(worstSmaller, bestLarger) << "squared error at a = " << thresholds[i] << " vs a = " << thresholds[i - 1];
+  }
+}
+
+// Records created during a pass join the cache after it, in tile order, so
+// the cache and the image cannot depend on the thread count.
+TEST(IrradianceCacheDeterminism, SameImageAndRecordsWithOneAndTwoThreads) {
+  SceneFile sf = loadShippedScene("cornell-box", 48, 48);
+  auto render = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    auto ic = std::make_unique<IrradianceCacheIntegrator>(icSettings("{theta_strata: 8, phi_strata: 24}"));
+    auto film = std::make_unique<Film>(48, 48);
+    RenderOptions options;
+    options.seed = 5;
+    options.budget.spp = 3;
+    renderLoop(*sf.scene, *ic, *film, sf.sampler, options);
+    return std::pair{std::move(ic), std::move(film)};
+  };
+  auto [ic1, film1] = render(1);
+  auto [ic2, film2] = render(2);
+  ASSERT_EQ(ic1->cache().size(), ic2->cache().size());
+  ASSERT_GT(ic1->cache().size(), 0u);
+  for (size_t i = 0; i < ic1->cache().size(); ++i) {
+    const IrradianceRecord &a = ic1->cache().records()[i], &b = ic2->cache().records()[i];
+    ASSERT_TRUE(a.p == b.p && a.E == b.E && a.R == b.R) << "record " << i;
+  }
+  Image i1 = film1->image(), i2 = film2->image();
+  EXPECT_EQ(0, std::memcmp(i1.pixels.data(), i2.pixels.data(), i1.pixels.size() * sizeof(Color)));
+}
+
+TEST(IrradianceCacheSettings, RejectsNonPhysicalAndMisplacedKeys) {
+  auto read = [](const std::string& yaml) { return icSettings(yaml); };
+  EXPECT_THROW(read("{a: 0}"), ConfigError);
+  EXPECT_THROW(read("{min_spacing: 5, max_spacing: 1}"), ConfigError);
+  EXPECT_THROW(read("{theta_strata: 0}"), ConfigError);
+  EXPECT_THROW(read("{k: 10}"), ConfigError);  // a photon key without base: photon
+  EXPECT_NO_THROW(read("{base: photon, k: 10, global_photons: 1000}"));
+}
+
+}  // namespace
+}  // namespace lb
