@@ -8,6 +8,7 @@
 //   rr         true  Russian roulette on the path throughput
 //   rr_depth   3     segments before roulette may start
 #include "core/params.h"
+#include "core/sampler.h"
 
 namespace lb {
 
@@ -17,6 +18,18 @@ struct PathLength {
   int rrDepth = 3;
 
   int maxSegments() const { return maxDepth < 0 ? 1 << 20 : maxDepth; }
+
+  // Russian roulette after `segments` segments (pbrt-v4 §13.4): survive with
+  // probability min(1, max β·η²) and reweight β; false if the path ends.
+  // etaScale removes radiance's 1/η² scaling from the decision.
+  bool survivesRoulette(int segments, Color& beta, float etaScale, Sampler& sampler) const {
+    if (!russianRoulette || segments < rrDepth) return true;
+    float survive = std::min(1.f, maxComponent(beta) * etaScale);
+    if (survive >= 1) return true;
+    if (sampler.get1D() >= survive) return false;
+    beta /= survive;
+    return true;
+  }
 
   static PathLength read(Params& p) {
     PathLength s;

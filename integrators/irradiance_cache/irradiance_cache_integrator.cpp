@@ -4,7 +4,6 @@
 #include "core/bsdfs/bsdf.h"
 #include "core/image.h"
 #include "integrators/direct_light.h"
-#include "integrators/photon/photon_integrator.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -30,17 +29,7 @@ IrradianceCacheSettings IrradianceCacheSettings::read(Params& p) {
   s.base = p.getChoice("base", "path", {"path", "photon"}) == "path" ? CacheBase::Path : CacheBase::Photon;
   s.recordImage = p.getBool("record_image", true);
   s.length = PathLength::read(p);
-  if (s.base == CacheBase::Photon) {  // read only here: with base path these keys are rejected as unknown
-    int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
-    if (global < 0) p.fail("global_photons", "must not be negative");
-    if (caustic < 0) p.fail("caustic_photons", "must not be negative");
-    s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
-    int k = p.getInt("k", 30);
-    if (k < 1) p.fail("k", "must be at least 1");
-    s.query.k = size_t(k);
-    s.maxRadius = p.getFloat("max_radius", 0);
-    if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
-  }
+  if (s.base == CacheBase::Photon) s.photonMaps = PhotonMapSettings::read(p);  // else its keys are rejected as unknown
   p.checkUnused();
   return s;
 }
@@ -72,11 +61,10 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
   Vec2 centre(0.5f * cam.width(), 0.5f * cam.height());
   pixelAngle_ = std::acos(std::min(1.f, glm::dot(cam.generateRay(centre).d, cam.generateRay(centre + Vec2(1, 0)).d)));
   if (settings_.base == CacheBase::Photon) {
-    query_ = settings_.query;
-    query_.maxRadius = settings_.maxRadius > 0 ? settings_.maxRadius : 0.05f * scene.bounds().radius();
+    query_ = settings_.photonMaps.queryFor(scene);
     uint64_t seed = hashValues(seed_, 0x1cac4e);
-    global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.length.maxSegments(), false);
-    caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.length.maxSegments(), true);
+    global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, settings_.length.maxSegments(), false);
+    caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, settings_.length.maxSegments(), true);
   }
   // Lazy creation, coarse to fine (Tabellion & Lamorlette 2004): sparse pixels
   // first, so the records they create cover most of the image before the
@@ -180,13 +168,7 @@ Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint
     prevPoint = si.p;
     ray = si.spawnRay(bs->wi);
     if (isBlack(beta)) break;
-    if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
-      float survive = std::min(1.f, maxComponent(beta) * etaScale);
-      if (survive < 1) {
-        if (sampler.get1D() >= survive) break;
-        beta /= survive;
-      }
-    }
+    if (!settings_.length.survivesRoulette(segments, beta, etaScale, sampler)) break;
   }
   return L;
 }
@@ -224,11 +206,7 @@ IrradianceRecord IrradianceCacheIntegrator::computeRecordAt(const SurfaceInterac
       si.p, n, settings_.strata, rng, [&](const Vec3& d) { return si.spawnRay(d); },
       [&](const Ray& ray, uint64_t direction) {
         sampler.start(key, direction);
-        IncidentSample s;
-        if (settings_.base == CacheBase::Photon)
-          s = photonIncident(ray, sampler, rays);
-        else
-          s.L = base_.incidentRadiance(ray, *scene_, sampler, rays, segmentsLeft, false, &s.distance);
+        IncidentSample s = incident(ray, sampler, segmentsLeft, rays);
         if (!std::isfinite(s.L.r + s.L.g + s.L.b)) {  // never let one sample poison a record
           s.L = Color(0.f);
           if (dropped) ++*dropped;
@@ -236,6 +214,14 @@ IrradianceRecord IrradianceCacheIntegrator::computeRecordAt(const SurfaceInterac
         return s;
       });
   return r;
+}
+
+IncidentSample IrradianceCacheIntegrator::incident(const Ray& ray, Sampler& sampler, int segmentsLeft,
+                                                   uint64_t& rays) const {
+  if (settings_.base == CacheBase::Photon) return photonIncident(ray, sampler, rays);
+  IncidentSample s;
+  s.L = base_.incidentRadiance(ray, *scene_, sampler, rays, segmentsLeft, false, &s.distance);
+  return s;
 }
 
 IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& first, Sampler& sampler, uint64_t& rays) const {

@@ -37,7 +37,7 @@
 #include "integrators/irradiance_cache/irradiance_cache.h"
 #include "integrators/path/path_tracer.h"
 #include "integrators/path_length.h"
-#include "integrators/photon/photon_map.h"
+#include "integrators/photon/photon_integrator.h"
 
 namespace lb {
 
@@ -50,9 +50,7 @@ struct IrradianceCacheSettings {
   CacheBase base = CacheBase::Path;
   bool recordImage = true;
   PathLength length;
-  size_t globalPhotons = 200000, causticPhotons = 200000;  // base photon
-  DensityQuery query;
-  float maxRadius = 0;
+  PhotonMapSettings photonMaps;  // base photon
   static IrradianceCacheSettings read(Params& p);
 };
 
@@ -76,6 +74,9 @@ class IrradianceCacheIntegrator final : public Integrator {
   const IrradianceCacheStats& stats() const { return stats_; }
   // A record computed at a diffuse surface point, its normal turned towards
   // si.wo (exposed for tests and benchmarks). `key` seeds its random numbers.
+  // The base estimator: indirect radiance arriving along a ray leaving a
+  // surface (emission of the first surface hit excluded), and the hit distance.
+  IncidentSample incident(const Ray& ray, Sampler& sampler, int segmentsLeft, uint64_t& rays) const;
   IrradianceRecord computeRecordAt(const SurfaceInteraction& si, uint64_t key, int segmentsLeft, uint64_t& rays,
                                    uint64_t* droppedSamples = nullptr) const;
 

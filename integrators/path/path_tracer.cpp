@@ -140,14 +140,7 @@ Color PathTracer::incidentRadiance(const Ray& cameraRay, const Scene& scene, Sam
     prevPoint = si.p;
     ray = si.spawnRay(wi);
 
-    // Russian roulette (pbrt-v4 §13.4): survive with probability min(1, max β·η²).
-    if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
-      float survive = std::min(1.f, maxComponent(beta) * etaScale);
-      if (survive < 1) {
-        if (sampler.get1D() >= survive) break;
-        beta /= survive;
-      }
-    }
+    if (!settings_.length.survivesRoulette(segments, beta, etaScale, sampler)) break;
   }
   return L;
 }

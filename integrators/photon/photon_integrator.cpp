@@ -6,8 +6,8 @@
 
 namespace lb {
 
-PhotonSettings PhotonSettings::read(Params& p) {
-  PhotonSettings s;
+PhotonMapSettings PhotonMapSettings::read(Params& p) {
+  PhotonMapSettings s;
   int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
   if (global < 0) p.fail("global_photons", "must not be negative");
   if (caustic < 0) p.fail("caustic_photons", "must not be negative");
@@ -17,6 +17,18 @@ PhotonSettings PhotonSettings::read(Params& p) {
   s.query.k = size_t(k);
   s.maxRadius = p.getFloat("max_radius", 0);
   if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
+  return s;
+}
+
+DensityQuery PhotonMapSettings::queryFor(const Scene& scene) const {
+  DensityQuery q = query;
+  q.maxRadius = maxRadius > 0 ? maxRadius : 0.05f * scene.bounds().radius();
+  return q;
+}
+
+PhotonSettings PhotonSettings::read(Params& p) {
+  PhotonSettings s;
+  static_cast<PhotonMapSettings&>(s) = PhotonMapSettings::read(p);
   std::string filter = p.getChoice("filter", "cone", {"cone", "epanechnikov", "box"});
   s.query.filter = filter == "cone" ? PhotonFilter::Cone : filter == "box" ? PhotonFilter::Box : PhotonFilter::Epanechnikov;
   s.finalGather = p.getInt("final_gather", 8);
@@ -45,8 +57,7 @@ PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int ma
 
 void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
   scene_ = &scene;
-  query_ = settings_.query;
-  query_.maxRadius = settings_.maxRadius > 0 ? settings_.maxRadius : 0.05f * scene.bounds().radius();
+  query_ = settings_.queryFor(scene);
   // Photon streams derive from the run's seed: repeats with distinct seeds
   // get independent photon maps, so their spread measures the estimator's.
   uint64_t seed = hashValues(prototype.seed(), 0x5eed);

@@ -29,10 +29,17 @@
 
 namespace lb {
 
-struct PhotonSettings {
+// The photon maps' keys, shared with the irradiance cache's photon records:
+// global_photons, caustic_photons, k, max_radius.
+struct PhotonMapSettings {
   size_t globalPhotons = 200000, causticPhotons = 200000;
   DensityQuery query;
-  float maxRadius = 0;  // 0: automatic
+  float maxRadius = 0;  // 0: automatic, 5% of the scene's bounding radius
+  static PhotonMapSettings read(Params& p);
+  DensityQuery queryFor(const Scene& scene) const;
+};
+
+struct PhotonSettings : PhotonMapSettings {
   int finalGather = 8;
   int maxDepth = 32;
   bool densityImages = false, stats = false;

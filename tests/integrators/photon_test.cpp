@@ -123,7 +123,9 @@ TEST(PhotonMapper, AgreesWithPathTracingOnTheDiffuseCornellBox) {
     for (size_t i = 0; i < pm.mean.size(); ++i) {
       double deviation = std::abs(pm.mean[i] - pt.mean[i]);
       double statistical = z * std::sqrt(pm.varianceOfMean[i] + pt.varianceOfMean[i]);
-      if (run == 1) EXPECT_LE(deviation, statistical + 0.04 * pt.mean[i]) << "region " << i / 3 << " channel " << i % 3;
+      if (run == 1) {
+        EXPECT_LE(deviation, statistical + 0.04 * pt.mean[i]) << "region " << i / 3 << " channel " << i % 3;
+      }
       worst[run] = std::max(worst[run], std::max(0.0, deviation - statistical) / pt.mean[i]);
     }
     ++run;
