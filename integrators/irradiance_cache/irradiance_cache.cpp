@@ -38,7 +38,9 @@ void IrradianceCache::clampRadius(IrradianceRecord& r, float worldPerPixel) cons
       if (g > 0 && r.E[c] > 0) r.R = std::min(r.R, r.E[c] / g);
     }
   float scale = settings_.spacingInPixels ? worldPerPixel : 1.f;
-  float reach = glm::clamp(settings_.a * r.R, settings_.minSpacing * scale, settings_.maxSpacing * scale);
+  float reach = settings_.a * r.R;
+  if (!(reach >= settings_.minSpacing * scale)) reach = settings_.minSpacing * scale;  // also catches NaN
+  reach = std::min(reach, settings_.maxSpacing * scale);
   r.R = reach / settings_.a;
   // Where the minimum spacing enlarged R again (near corners the Ward–Heckbert
   // gradient grows like 1/distance), shrink the gradient instead, keeping
@@ -52,18 +54,23 @@ void IrradianceCache::clampRadius(IrradianceRecord& r, float worldPerPixel) cons
 
 void IrradianceCache::neighbourClamp(IrradianceRecord& r) {
   // Křivánek et al. 2006: R may not exceed a neighbour's R plus the distance to
-  // it (the triangle inequality for distances to the nearest surface), both ways.
-  octree_.forEachInBall(r.p, r.R, [&](uint32_t id) {
+  // it (the triangle inequality for distances to the nearest surface), applied
+  // both ways with the records within R of the new one and the records whose
+  // reach covers it (a large open-floor record overhanging a new corner record).
+  auto clampPair = [&](uint32_t id) {
     IrradianceRecord& other = records_[id];
     float d = glm::length(r.p - other.p);
     r.R = std::min(r.R, other.R + d);
     other.R = std::min(other.R, r.R + d);
-  });
+  };
+  octree_.forEachInBall(r.p, r.R, clampPair);
+  octree_.forEachAt(r.p, clampPair);
 }
 
 void IrradianceCache::merge(std::vector<LocalRecords>& tiles) {
   for (LocalRecords& tile : tiles) {
     for (IrradianceRecord& r : tile.records) {
+      if (!(r.R > 0) || !isFinite(r.p) || !std::isfinite(r.E.r + r.E.g + r.E.b)) continue;  // unusable
       if (settings_.neighbourClamping) neighbourClamp(r);
       records_.push_back(r);
       octree_.insert(uint32_t(records_.size() - 1), r.p, settings_.a * r.R);

@@ -11,7 +11,9 @@ namespace lb {
 IrradianceCacheSettings IrradianceCacheSettings::read(Params& p) {
   IrradianceCacheSettings s;
   s.cache.a = p.getFloat("a", 0.15f);
-  if (!(s.cache.a > 0)) p.fail("a", "must be positive");
+  // Above 1, Ward's weight would accept records whose normal is turned more
+  // than 90° away (sqrt(1 − n·nᵢ) < a): records from other walls.
+  if (!(s.cache.a > 0) || s.cache.a > 1) p.fail("a", "must be in (0, 1]");
   s.cache.spacingInPixels = p.getChoice("spacing", "pixels", {"pixels", "world"}) == "pixels";
   s.cache.minSpacing = p.getFloat("min_spacing", 2);
   if (s.cache.minSpacing < 0) p.fail("min_spacing", "must not be negative");
@@ -19,9 +21,9 @@ IrradianceCacheSettings IrradianceCacheSettings::read(Params& p) {
   if (!(s.cache.maxSpacing >= s.cache.minSpacing) || !(s.cache.maxSpacing > 0))
     p.fail("max_spacing", "must be positive and at least min_spacing");
   s.strata.theta = p.getInt("theta_strata", 16);
-  if (s.strata.theta < 1) p.fail("theta_strata", "must be at least 1");
+  if (s.strata.theta < 1 || s.strata.theta > 1024) p.fail("theta_strata", "must be between 1 and 1024");
   s.strata.phi = p.getInt("phi_strata", 48);
-  if (s.strata.phi < 1) p.fail("phi_strata", "must be at least 1");
+  if (s.strata.phi < 1 || s.strata.phi > 1024) p.fail("phi_strata", "must be between 1 and 1024");
   s.cache.gradients = p.getBool("gradients", true);
   s.cache.neighbourClamping = p.getBool("neighbour_clamping", true);
   s.prepassLevels = p.getInt("prepass_levels", 3);
@@ -59,7 +61,10 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
   stats_ = {};
   const Camera& cam = scene.camera;
   Vec2 centre(0.5f * cam.width(), 0.5f * cam.height());
-  pixelAngle_ = std::acos(std::min(1.f, glm::dot(cam.generateRay(centre).d, cam.generateRay(centre + Vec2(1, 0)).d)));
+  // The angle between neighbouring pixels' rays, in double: acos of a float
+  // dot product rounds to 0 for images a few thousand pixels wide.
+  glm::dvec3 a(cam.generateRay(centre).d), b(cam.generateRay(centre + Vec2(1, 0)).d);
+  pixelAngle_ = float(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
   if (settings_.base == CacheBase::Photon) {
     query_ = settings_.photonMaps.queryFor(scene);
     uint64_t seed = hashValues(seed_, 0x1cac4e);
@@ -112,7 +117,10 @@ std::optional<Color> IrradianceCacheIntegrator::replaySample(const Scene& scene,
   uint64_t pixel = uint64_t(y) * scene.camera.width() + x, rays = 0;
   sampler->start(pixel, sample);
   Vec2 jitter = sampler->get2D();
-  LocalRecords local;  // the replay sees the prepass's records only
+  // The replay sees the cache as it is now (after a render: every record) and
+  // none of the records its tile had made earlier in the pass, so it
+  // reproduces the rendered sample only where the cache already covered it.
+  LocalRecords local;
   return Li(scene.camera.generateRay(Vec2(x, y) + jitter), *sampler, hashValues(seed_, pixel, sample), local, rays);
 }
 
@@ -138,7 +146,10 @@ Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint
         L += beta * env->Le(ray.d) * emissionWeight(env, env->pdfLi(prevPoint, ray.d, {}, {}));
       break;
     }
-    if (si.emitter) L += beta * si.emitter->L(si.ng, si.wo) * emissionWeight(si.emitter, si.emitter->pdfLi(prevPoint, ray.d, si.p, si.ng));
+    if (si.emitter) {
+      Color Le = si.emitter->L(si.ng, si.wo);
+      if (!isBlack(Le)) L += beta * Le * emissionWeight(si.emitter, si.emitter->pdfLi(prevPoint, ray.d, si.p, si.ng));
+    }
     if (segments == maxDepth || !si.material) break;
     BSDF bsdf(si);
 

@@ -42,7 +42,8 @@ IrradianceRecord computeRecord(const Vec3& p, const Vec3& n, HemisphereStrata st
       Vec3 local(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
       IncidentSample s = incident(spawn(frame.toWorld(local)), at(j, k));
       L[at(j, k)] = s.L;
-      invDist[at(j, k)] = 1 / s.distance;
+      // 1/r, finite even for a (never expected) zero or NaN distance.
+      invDist[at(j, k)] = s.distance > 0 ? std::min(1e30f, 1 / s.distance) : 0.f;
       sumInvDist += invDist[at(j, k)];
       rec.E += s.L;
       // Rotational gradient (Ward & Heckbert 1992): tilting n about an in-plane
@@ -82,6 +83,10 @@ IrradianceRecord computeRecord(const Vec3& p, const Vec3& n, HemisphereStrata st
   for (int c = 0; c < 3; ++c) {
     rec.rotationalGradient[c] = frame.toWorld(rotational[c] * cellMeasure);
     rec.translationalGradient[c] = frame.toWorld(translational[c]);
+    // Huge radiance (a tiny light seen at the horizon) times 1/r can overflow:
+    // such a gradient says nothing useful, so the record keeps none.
+    if (!isFinite(rec.rotationalGradient[c])) rec.rotationalGradient[c] = Vec3(0.f);
+    if (!isFinite(rec.translationalGradient[c])) rec.translationalGradient[c] = Vec3(0.f);
   }
   return rec;
 }

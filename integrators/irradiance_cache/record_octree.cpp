@@ -6,12 +6,14 @@ RecordOctree::RecordOctree(const Bounds3& bounds) : bounds_(bounds) {
   // A cube slightly larger than the scene, so records on its boundary fit.
   Vec3 c = bounds.center();
   float half = 0.5f * maxComponent(bounds.hi - bounds.lo);
-  half = half > 0 && std::isfinite(half) ? half * 1.01f : 1.f;
+  if (!isFinite(c) || !std::isfinite(half)) c = Vec3(0.f), half = 0;  // empty scene
+  half = half > 0 ? half * 1.01f : 1.f;
   bounds_.lo = c - Vec3(half), bounds_.hi = c + Vec3(half);
   nodes_.emplace_back();
 }
 
 void RecordOctree::insert(uint32_t id, const Vec3& centre, float radius) {
+  if (!isFinite(centre) || !(radius >= 0) || !std::isfinite(radius)) return;  // never findable
   Bounds3 box;
   box.lo = centre - Vec3(radius), box.hi = centre + Vec3(radius);
   insert(0, bounds_, 0, id, box, glm::dot(box.hi - box.lo, box.hi - box.lo));
