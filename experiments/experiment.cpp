@@ -40,6 +40,10 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
     r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
     if (!std::filesystem::exists(r.file)) ref->fail("file", "reference image not found: " + r.file);
   } else {
+    if (ref->has("scene")) {
+      r.scene = (std::filesystem::path(folder) / ref->getString("scene", "")).lexically_normal().string();
+      if (!std::filesystem::exists(r.scene)) ref->fail("scene", "reference scene not found: " + r.scene);
+    }
     r.integrator = ref->getString("integrator", "path");
     if (!integratorExists(r.integrator))
       ref->fail("integrator", "unknown integrator '" + r.integrator + "' (available: " + availableIntegrators() + ")");
@@ -68,7 +72,16 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     ExperimentScene s;
     s.path = (std::filesystem::path(folder) / sp.requireString("scene")).lexically_normal().string();
     if (!std::filesystem::exists(s.path)) sp.fail("scene", "scene file not found: " + s.path);
-    s.name = std::filesystem::path(s.path).stem().string();
+    s.name = sp.getString("name", std::filesystem::path(s.path).stem().string());
+    if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
+      sp.fail("name", "must be a non-empty file-name stem (no spaces or slashes)");
+    for (const auto& other : e.scenes)
+      if (other.name == s.name) sp.fail("name", "two scenes are named '" + s.name + "': give one a `name`");
+    if (sp.has("world_scale")) {  // the run's scene scaled (camera, lights and radii too)
+      float scale = sp.getFloat("world_scale", 1);
+      if (!(scale > 0)) sp.fail("world_scale", "must be positive");
+      s.overrides["world_scale"] = scale;
+    }
     if (sp.has("resolution")) {
       YAML::Node res = sp.node()["resolution"];
       if (!res.IsSequence() || res.size() != 2) sp.fail("resolution", "expected [width, height]");
@@ -81,6 +94,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       if (w <= 0 || h <= 0) sp.fail("resolution", "must be positive");
       s.overrides["film"]["width"] = w;
       s.overrides["film"]["height"] = h;
+      s.resolution["film"]["width"] = w;
+      s.resolution["film"]["height"] = h;
     }
     s.reference = readReference(sp, folder, options);
     if (sp.has("crop")) {

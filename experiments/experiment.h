@@ -13,6 +13,8 @@ namespace lb {
 
 struct ReferenceSpec {
   std::string file;            // an EXR to use as is, or empty: compute and cache
+  std::string scene;           // render it from this scene instead of the run's (e.g. the unscaled or the
+                               // point-light version); empty: the run's scene with all its overrides
   std::string integrator = "path";
   YAML::Node params{YAML::NodeType::Map};
   uint64_t spp = 1024;
@@ -21,8 +23,9 @@ struct ReferenceSpec {
 
 struct ExperimentScene {
   std::string path;            // resolved against the experiment file's folder
-  std::string name;            // file stem, used in file names and the CSV
-  YAML::Node overrides{YAML::NodeType::Map};  // e.g. film resolution
+  std::string name;            // `name`, or the file stem: used in file names and the CSV; unique
+  YAML::Node overrides{YAML::NodeType::Map};  // film resolution, world_scale
+  YAML::Node resolution{YAML::NodeType::Map}; // the film override alone (given to a reference scene)
   ReferenceSpec reference;
   Crop crop;
 };

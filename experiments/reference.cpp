@@ -39,18 +39,32 @@ std::string hashStrings(const std::vector<std::string>& parts) {
   return hex;
 }
 
+namespace {
+// The scene a reference is rendered from, and its overrides.
+const std::string& referenceScene(const ExperimentScene& s) { return s.reference.scene.empty() ? s.path : s.reference.scene; }
+const YAML::Node& referenceOverrides(const ExperimentScene& s) {
+  return s.reference.scene.empty() ? s.overrides : s.resolution;
+}
+// Cached references are named after the scene they are rendered from, so
+// runs sharing one (a scale sweep against the unscaled scene) share the file.
+std::string referenceName(const ExperimentScene& s) {
+  return s.reference.scene.empty() ? s.name : std::filesystem::path(s.reference.scene).stem().string();
+}
+}  // namespace
+
 std::string referenceKey(const ExperimentScene& s) {
   Fnv1a f;
   // The renderer's version and commit: a fixed integrator must not keep
   // serving references computed before the fix.
   f.add("lightbench-reference-v1 " LIGHTBENCH_VERSION " " LIGHTBENCH_GIT);
-  f.add(readBytes(s.path));
-  YAML::Node root = loadYamlFile(s.path);
-  std::string folder = std::filesystem::path(s.path).parent_path().string();
+  const std::string& scene = referenceScene(s);
+  f.add(readBytes(scene));
+  YAML::Node root = loadYamlFile(scene);
+  std::string folder = std::filesystem::path(scene).parent_path().string();
   if (root["shapes"] && root["shapes"].IsSequence())
     for (const auto& shape : root["shapes"])
       if (shape.IsMap() && shape["file"]) f.add(readBytes((std::filesystem::path(folder) / shape["file"].as<std::string>()).string()));
-  f.add(dump(s.overrides));
+  f.add(dump(referenceOverrides(s)));
   f.add(s.reference.integrator);
   f.add(dump(s.reference.params));
   f.add(std::to_string(s.reference.spp) + "/" + std::to_string(s.reference.seed));
@@ -67,8 +81,8 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
   std::filesystem::create_directories(dir);
   std::string key = referenceKey(s);
-  std::filesystem::path exr = dir / (s.name + "-" + key + ".exr");
-  std::filesystem::path sidecar = dir / (s.name + "-" + key + ".yaml");
+  std::filesystem::path exr = dir / (referenceName(s) + "-" + key + ".exr");
+  std::filesystem::path sidecar = dir / (referenceName(s) + "-" + key + ".yaml");
   if (std::filesystem::exists(exr)) {
     std::cerr << "reference: " << exr.string() << " (cached)\n";
     Reference r{readExr(exr.string())};
@@ -78,9 +92,9 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     }
     return r;
   }
-  std::cerr << "reference: rendering " << s.name << " with '" << s.reference.integrator << "' at "
+ std::cerr << "reference: rendering " << referenceName(s) << " with '" << s.reference.integrator << "' at "
             << s.reference.spp << " spp (cached for later runs as " << exr.string() << ")\n";
-  SceneFile sf = loadScene(s.path, s.overrides);
+  SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s));
   Params params(s.reference.params, s.path, "reference.params");
   auto integrator = makeIntegrator(s.reference.integrator, params);
   Film film(sf.scene->camera.width(), sf.scene->camera.height());
@@ -92,7 +106,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   Image image = film.image();
   writeExr(exr.string(), image);
   std::ostringstream info;
-  info << "scene: " << s.path << "\nintegrator: " << s.reference.integrator << "\nparams: " << dump(s.reference.params)
+  info << "scene: " << referenceScene(s) << "\nintegrator: " << s.reference.integrator << "\nparams: " << dump(s.reference.params)
        << "\nspp: " << s.reference.spp << "\nseed: " << s.reference.seed << "\nseconds: " << rep.seconds
        << "\nnon_finite_samples: " << rep.nonFinite << "\nvariance_of_mean: " << film.meanVarianceOfMean()
        << "\nkey: " << key << "\n";

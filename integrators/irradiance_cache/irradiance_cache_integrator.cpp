@@ -68,6 +68,7 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
   if (settings_.base == CacheBase::Photon) {
     query_ = settings_.photonMaps.queryFor(scene);
     uint64_t seed = hashValues(seed_, 0x1cac4e);
+    settings_.photonMaps.checkMemory(scene, seed, settings_.length.maxSegments());
     global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, settings_.length.maxSegments(), false);
     caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, settings_.length.maxSegments(), true);
   }

@@ -1,4 +1,8 @@
 #include "integrators/photon/photon_integrator.h"
+#include <unistd.h>
+#include <atomic>
+#include <cstdio>
+#include <fstream>
 #include <iostream>
 #include "core/bsdfs/bsdf.h"
 #include "integrators/direct_light.h"
@@ -8,6 +12,8 @@ namespace lb {
 
 PhotonMapSettings PhotonMapSettings::read(Params& p) {
   PhotonMapSettings s;
+  s.file = p.file();
+  s.line = p.line("global_photons");
   int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
   if (global < 0) p.fail("global_photons", "must not be negative");
   if (caustic < 0) p.fail("caustic_photons", "must not be negative");
@@ -24,6 +30,43 @@ DensityQuery PhotonMapSettings::queryFor(const Scene& scene) const {
   DensityQuery q = query;
   q.maxRadius = maxRadius > 0 ? maxRadius : 0.05f * scene.bounds().radius();
   return q;
+}
+
+namespace {
+// Bytes the OS can still give us (MemAvailable), or all physical memory.
+double availableMemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (meminfo >> key >> kib)
+    if (key == "MemAvailable:") return kib * 1024;
+  return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+}
+}  // namespace
+
+void PhotonMapSettings::checkMemory(const Scene& scene, uint64_t seed, int maxBounces) const {
+  size_t requested = globalPhotons + causticPhotons;
+  if (requested <= PhotonPathsPerChunk) return;
+  std::atomic<uint64_t> stored{0}, causticStored{0};
+  tracePhotons(scene, seed, 7, PhotonPathsPerChunk, maxBounces, [&](size_t, const PhotonHit& h) {
+    ++stored;
+    if (h.specularChain) ++causticStored;
+  });
+  double perPath = double(stored) / PhotonPathsPerChunk, causticPerPath = double(causticStored) / PhotonPathsPerChunk;
+  // Each stored photon: itself twice while the map is merged, FLANN's copy of
+  // its position, and FLANN's index and tree (about two words).
+  double bytesPerPhoton = 2 * sizeof(Photon) + 3 * sizeof(float) + 2 * sizeof(size_t);
+  double bytes = (perPath * double(globalPhotons) + causticPerPath * double(causticPhotons)) * bytesPerPhoton;
+  double available = availableMemoryBytes();
+  if (bytes > 0.9 * available) {
+    char msg[256];
+    std::snprintf(msg, sizeof msg,
+                  "%zu global + %zu caustic photon paths would store about %.3g photons (%.1f GiB with the kd-tree), "
+                  "more than the %.1f GiB of memory available; request fewer photons",
+                  globalPhotons, causticPhotons, perPath * double(globalPhotons) + causticPerPath * double(causticPhotons),
+                  bytes / (1 << 30), available / (1 << 30));
+    throw ConfigError(file, line, "global_photons", msg);
+  }
 }
 
 PhotonSettings PhotonSettings::read(Params& p) {
@@ -61,6 +104,7 @@ void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
   // Photon streams derive from the run's seed: repeats with distinct seeds
   // get independent photon maps, so their spread measures the estimator's.
   uint64_t seed = hashValues(prototype.seed(), 0x5eed);
+  settings_.checkMemory(scene, seed, settings_.maxDepth);
   global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.maxDepth, false);
   caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.maxDepth, true);
   if (settings_.stats)

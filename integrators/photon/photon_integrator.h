@@ -35,8 +35,14 @@ struct PhotonMapSettings {
   size_t globalPhotons = 200000, causticPhotons = 200000;
   DensityQuery query;
   float maxRadius = 0;  // 0: automatic, 5% of the scene's bounding radius
+  std::string file;     // where global_photons was given, for the memory check's message
+  int line = 0;
   static PhotonMapSettings read(Params& p);
   DensityQuery queryFor(const Scene& scene) const;
+  // Refuses (ConfigError naming global_photons) maps that would not fit in the
+  // memory available: a pilot of 4096 photon paths measures photons stored
+  // per path on this scene, extrapolated to the requested counts.
+  void checkMemory(const Scene& scene, uint64_t seed, int maxBounces) const;
 };
 
 struct PhotonSettings : PhotonMapSettings {

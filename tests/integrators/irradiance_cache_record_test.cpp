@@ -107,7 +107,9 @@ TEST(RecordOctree, FindsExactlyTheRecordsWhoseCubeContainsAPoint) {
     for (size_t i = 0; i < balls.size(); ++i) {
       Vec3 d = glm::abs(p - balls[i].first);
       bool inCube = d.x <= balls[i].second && d.y <= balls[i].second && d.z <= balls[i].second;
-      if (inCube) ASSERT_EQ(seen[i], 1) << "record " << i << " missed or repeated at query " << q;
+      if (inCube) {
+        ASSERT_EQ(seen[i], 1) << "record " << i << " missed or repeated at query " << q;
+      }
       ASSERT_LE(seen[i], 1) << "record " << i << " visited twice";
     }
   }
