@@ -131,6 +131,9 @@ void Scene::build(LightSelection selection) {
     }
   }
   rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
+  // Watertight traversal: without it, rays aimed exactly at a vertex shared by
+  // several triangles can slip through a closed mesh (tests/core/geometry_extremes_test.cpp).
+  rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST);
   rtcCommitScene(rtcScene_);
   if (bounds_.empty()) bounds_.extend(camera.position());
   infiniteLights_.clear();

@@ -10,6 +10,8 @@ namespace {
 // sampling the BSDF at each hit; returns the number of vertices added.
 int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray ray, Color beta, float pdfFwd,
                int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays) {
+  const float startThroughput = maxComponent(beta);
+  const float rouletteScale = startThroughput > 0 ? 1 / startThroughput : 1.f;
   if (maxVertices <= 0) return 0;
   int added = 0;
   float etaScale = 1;
@@ -45,8 +47,11 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
     if (mode == TransportMode::Radiance && (bs->lobe & BSDFTransmission)) etaScale *= sqr(bs->eta);
     ray = si.spawnRay(bs->wi);
     // Roulette after rr_depth segments of this subpath; not part of the MIS pdfs (vertex.h).
+    // The throughput is taken relative to the walk's starting one: a light
+    // subpath starts with the emitted flux, which scales with the scene's
+    // area, and the decision must not depend on the scene's scale.
     if (s.length.russianRoulette && start + added - 1 >= s.length.rrDepth) {
-      float survive = std::min(1.f, maxComponent(beta) * etaScale);
+      float survive = std::min(1.f, maxComponent(beta) * etaScale * rouletteScale);
       if (sampler.get1D() >= survive) break;
       beta /= survive;
     }

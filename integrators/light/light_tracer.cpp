@@ -64,6 +64,9 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
   }
 
   Color beta = emitted->beta;
+  // Roulette on the throughput relative to the emitted one: the emitted flux
+  // scales with the scene's area, and the decision must not.
+  const float rouletteScale = maxComponent(beta) > 0 ? 1 / maxComponent(beta) : 1.f;
   Ray ray = e->ray;
   for (int segments = 1;; ++segments) {
     SurfaceInteraction si;
@@ -89,7 +92,7 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
     if (isBlack(beta)) break;
     ray = si.spawnRay(bs->wi);
     if (settings_.length.russianRoulette && segments >= settings_.length.rrDepth) {
-      float survive = std::min(1.f, maxComponent(beta));
+      float survive = std::min(1.f, maxComponent(beta) * rouletteScale);
       if (sampler.get1D() >= survive) break;
       beta /= survive;
     }

@@ -96,6 +96,16 @@ TEST_F(BadInput, NonFiniteNumber) {
   expectError(render(f), "s.yaml:7", "emission", "finite");
 }
 
+TEST_F(BadInput, InfiniteNumber) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: .inf, emission: 1}"));
+  expectError(render(f), "s.yaml:7", "radius", "finite");
+}
+
+TEST_F(BadInput, NegativeRadiance) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: 1, emission: [1, -2, 1]}"));
+  expectError(render(f), "s.yaml:7", "emission", "negative");
+}
+
 TEST_F(BadInput, MissingMeshFile) {
   std::string f = write("s.yaml", scene("  - {type: mesh, file: nowhere.obj}"));
   expectError(render(f), "s.yaml:7", "file", "not found");

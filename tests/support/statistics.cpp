@@ -36,6 +36,45 @@ double gammaQ(double a, double x) {
   return std::exp(-x + a * std::log(x) - gln) * h;
 }
 
+namespace {
+// Regularised incomplete beta I_x(a, b) by its continued fraction (modified
+// Lentz; Numerical Recipes §6.4).
+double incompleteBeta(double a, double b, double x) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  if (x > (a + 1) / (a + b + 2)) return 1 - incompleteBeta(b, a, 1 - x);
+  double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x)) / a;
+  const double tiny = 1e-300;
+  double f = 1, c = 1, d = 0;
+  for (int i = 0; i <= 400; ++i) {
+    int m = i / 2;
+    double numerator = i == 0 ? 1
+                       : i % 2 == 0 ? m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m))
+                                    : -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1));
+    d = 1 + numerator * d;
+    d = std::abs(d) < tiny ? tiny : d;
+    d = 1 / d;
+    c = 1 + numerator / c;
+    c = std::abs(c) < tiny ? tiny : c;
+    f *= c * d;
+    if (std::abs(1 - c * d) < 1e-14) break;
+  }
+  return front * (f - 1);
+}
+}  // namespace
+
+double studentCritical(double alpha, double dof) {
+  // P(|T| > t) = I_{ν/(ν+t²)}(ν/2, 1/2); bisection on t.
+  auto tail = [&](double t) { return incompleteBeta(dof / 2, 0.5, dof / (dof + t * t)); };
+  double lo = 0, hi = 1;
+  while (tail(hi) > alpha) hi *= 2;
+  for (int i = 0; i < 200; ++i) {
+    double mid = 0.5 * (lo + hi);
+    (tail(mid) > alpha ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 double normalCritical(double alpha) {
   double lo = 0, hi = 40;  // erfc(z/√2) = alpha
   for (int i = 0; i < 200; ++i) {

@@ -14,6 +14,9 @@ namespace lb::test {
 double gammaQ(double a, double x);
 // Two-sided standard normal critical value for significance alpha.
 double normalCritical(double alphaTwoSided);
+// Two-sided Student-t critical value with `dof` degrees of freedom (for means
+// whose variance is estimated from a few independent repeats).
+double studentCritical(double alphaTwoSided, double dof);
 // Per-test level such that `count` independent tests all pass with probability 1 - alpha.
 inline double sidak(double alpha, int count) { return 1 - std::pow(1 - alpha, 1.0 / count); }
 
