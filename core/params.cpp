@@ -29,9 +29,11 @@ int Params::line(const std::string& key) const {
   return line();
 }
 
-void Params::fail(const std::string& key, const std::string& message) const {
-  if (overridden_.count(key)) throw ConfigError("command line", 0, "--set " + key, message);
-  throw ConfigError(file_, line(key), qualified(key), message);
+void Params::fail(const std::string& key, const std::string& message) const { throw error(key, message); }
+
+ConfigError Params::error(const std::string& key, const std::string& message) const {
+  if (overridden_.count(key)) return ConfigError("command line", 0, "--set " + key, message);
+  return ConfigError(file_, line(key), qualified(key), message);
 }
 
 YAML::Node Params::lookup(const std::string& key) {

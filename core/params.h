@@ -40,6 +40,8 @@ class Params {
   // Throws for the first key that no get*/has call asked for.
   void checkUnused() const;
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  // The error fail() would throw, for checks made later (e.g. at render time).
+  ConfigError error(const std::string& key, const std::string& message) const;
 
   int line(const std::string& key) const;
   int line() const { return node_.Mark().line >= 0 ? node_.Mark().line + 1 : 0; }

@@ -40,6 +40,8 @@ int lightbenchMain(int argc, char** argv) {
   render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing");
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)");
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
+  render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
+      ->check(CLI::PositiveNumber);
 
   RunArgs run;
   CLI::App* runCmd = app.add_subcommand("run", "Run an experiment: every configuration against a reference, error vs time logged, plotted and reported.");

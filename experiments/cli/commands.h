@@ -19,6 +19,7 @@ struct RenderArgs {
   std::string replayPixel;             // "X,Y"
   long long replaySample = -1;
   bool quiet = false;
+  double worldScale = 0;               // > 0: the scene scaled (camera, lights and radii too)
 };
 
 // Runs a command body: a ConfigError prints "error: file:line: key: ..." and

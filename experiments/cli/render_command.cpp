@@ -63,7 +63,9 @@ void printSummary(const RenderReport& rep, const Film& film) {
 }
 
 int render(const RenderArgs& args) {
-  SceneFile sf = loadScene(args.scene);
+  YAML::Node sceneOverrides(YAML::NodeType::Map);
+  if (args.worldScale > 0) sceneOverrides["world_scale"] = args.worldScale;
+  SceneFile sf = loadScene(args.scene, sceneOverrides);
   IntegratorChoice choice = chooseIntegrator(sf, args);
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);

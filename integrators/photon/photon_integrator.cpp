@@ -12,8 +12,8 @@ namespace lb {
 
 PhotonMapSettings PhotonMapSettings::read(Params& p) {
   PhotonMapSettings s;
-  s.file = p.file();
-  s.line = p.line("global_photons");
+  ConfigError where = p.error("global_photons", "");
+  s.file = where.file(), s.line = where.line(), s.key = where.key();
   int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
   if (global < 0) p.fail("global_photons", "must not be negative");
   if (caustic < 0) p.fail("caustic_photons", "must not be negative");
@@ -62,10 +62,10 @@ void PhotonMapSettings::checkMemory(const Scene& scene, uint64_t seed, int maxBo
     char msg[256];
     std::snprintf(msg, sizeof msg,
                   "%zu global + %zu caustic photon paths would store about %.3g photons (%.1f GiB with the kd-tree), "
-                  "more than the %.1f GiB of memory available; request fewer photons",
+                  "more than 90%% of the %.1f GiB of memory available; request fewer photons",
                   globalPhotons, causticPhotons, perPath * double(globalPhotons) + causticPerPath * double(causticPhotons),
                   bytes / (1 << 30), available / (1 << 30));
-    throw ConfigError(file, line, "global_photons", msg);
+    throw ConfigError(file, line, key, msg);
   }
 }
 

@@ -35,7 +35,7 @@ struct PhotonMapSettings {
   size_t globalPhotons = 200000, causticPhotons = 200000;
   DensityQuery query;
   float maxRadius = 0;  // 0: automatic, 5% of the scene's bounding radius
-  std::string file;     // where global_photons was given, for the memory check's message
+  std::string file, key;  // where global_photons was given, for the memory check's message
   int line = 0;
   static PhotonMapSettings read(Params& p);
   DensityQuery queryFor(const Scene& scene) const;

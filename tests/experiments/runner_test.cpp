@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 #include "experiments/reference.h"
@@ -248,6 +249,40 @@ TEST_F(Runner, KilledRunKeepsItsLogAndResumeCompletesIt) {
   std::ofstream(dir_ / "exp.yaml", std::ios::app) << "seed: 5\n";
   EXPECT_EQ(runBinary(exp + " --resume --no-report --results " + results.string(), &err), 2);
   EXPECT_NE(err.find("changed since"), std::string::npos) << err;
+}
+
+TEST_F(Runner, ScenesCanBeNamedScaledAndJudgedAgainstAnotherScene) {
+  std::string text = "scenes:\n"
+                     "  - {scene: scene.yaml, resolution: [16, 16], reference: {spp: 16}}\n"
+                     "  - {scene: scene.yaml, name: tiny, world_scale: 1e-3, resolution: [16, 16],\n"
+                     "     reference: {scene: scene.yaml, spp: 16}}\n"
+                     "configurations:\n"
+                     "  - {label: mis, integrator: path}\n"
+                     "budget: {spp: 2}\n"
+                     "snapshots: {count: 1}\n";
+  std::ofstream(dir_ / "exp.yaml") << text;
+  std::string err;
+  fs::path results = dir_ / "r";
+  ASSERT_EQ(runBinary((dir_ / "exp.yaml").string() + " --no-report --results " + results.string(), &err), 0) << err;
+  // Both scenes are judged against one reference, rendered once from the unscaled scene.
+  int references = 0;
+  for (const auto& entry : fs::directory_iterator(results / "references")) references += entry.path().extension() == ".exr";
+  EXPECT_EQ(references, 1);
+  fs::path run = *fs::directory_iterator(results / "exp");
+  CsvTable log = readCsv(run / "log.csv");
+  std::set<std::string> scenes;
+  for (const auto& row : log.rows) scenes.insert(row.at("scene"));
+  EXPECT_EQ(scenes, (std::set<std::string>{"scene", "tiny"}));
+  // Bad uses: a repeated name, a non-positive scale, a missing reference scene.
+  for (auto [entry, phrase] : {std::pair{"  - {scene: scene.yaml, resolution: [16, 16]}\n", "two scenes are named 'scene'"},
+                               std::pair{"  - {scene: scene.yaml, name: z, world_scale: 0}\n", "world_scale': must be positive"},
+                               std::pair{"  - {scene: scene.yaml, name: z, reference: {scene: nowhere.yaml}}\n", "reference scene not found"}}) {
+    std::string bad = text;
+    bad.insert(bad.find("configurations:"), entry);
+    std::ofstream(dir_ / "exp.yaml") << bad;
+    EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2) << phrase;
+    EXPECT_NE(err.find(phrase), std::string::npos) << err;
+  }
 }
 
 TEST_F(Runner, BadExperimentFilesAreClearErrors) {

@@ -125,7 +125,7 @@ TEST(ExtremeParameters, ImpossibleRequestsAreRefused) {
     renderWith(sf, fast("photon"), 1, "{global_photons: 1000000000}");
     ADD_FAILURE() << "1e9 photons were not refused";
   } catch (const ConfigError& e) {
-    EXPECT_EQ(e.key(), "global_photons");
+    EXPECT_NE(e.key().find("global_photons"), std::string::npos) << e.key();
     EXPECT_NE(std::string(e.what()).find("memory"), std::string::npos) << e.what();
   }
   EXPECT_THROW(renderWith(sf, fast("irradiance_cache"), 1, "{a: 2}"), ConfigError);
