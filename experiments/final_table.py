@@ -28,7 +28,9 @@ def main(argv):
                 continue
             if row["label"] not in labels:
                 labels.append(row["label"])
-            finals.setdefault(row["scene"], {}).setdefault(row["label"], []).append(float(row[metric]))
+            by_label = finals.setdefault(row["scene"], {})
+            if row[metric] != "":  # e.g. crop metrics of a scene without a crop
+                by_label.setdefault(row["label"], []).append(float(row[metric]))
             nonfinite[row["scene"]] = nonfinite.get(row["scene"], 0) + int(row["nonfinite"])
     floors = {}
     meta_path = os.path.join(run_dir, "meta.json")
