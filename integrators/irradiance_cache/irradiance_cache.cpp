@@ -42,6 +42,7 @@ void IrradianceCache::clampRadius(IrradianceRecord& r, float worldPerPixel) cons
   if (!(reach >= settings_.minSpacing * scale)) reach = settings_.minSpacing * scale;  // also catches NaN
   reach = std::min(reach, settings_.maxSpacing * scale);
   r.R = reach / settings_.a;
+  r.minR = settings_.minSpacing * scale / settings_.a;
   // Where the minimum spacing enlarged R again (near corners the Ward–Heckbert
   // gradient grows like 1/distance), shrink the gradient instead, keeping
   // the same bound on the extrapolation.
@@ -60,8 +61,9 @@ void IrradianceCache::neighbourClamp(IrradianceRecord& r) {
   auto clampPair = [&](uint32_t id) {
     IrradianceRecord& other = records_[id];
     float d = glm::length(r.p - other.p);
-    r.R = std::min(r.R, other.R + d);
-    other.R = std::min(other.R, r.R + d);
+    // Never below a record's own minimum spacing (pixel spacing differs with depth).
+    r.R = std::max(std::min(r.R, other.R + d), r.minR);
+    other.R = std::max(std::min(other.R, r.R + d), other.minR);
   };
   octree_.forEachInBall(r.p, r.R, clampPair);
   octree_.forEachAt(r.p, clampPair);

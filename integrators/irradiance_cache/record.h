@@ -21,6 +21,7 @@ struct IrradianceRecord {
   Vec3 p, n;                  // position, unit normal (on the side the record was seen from)
   Color E{0.f};               // indirect irradiance
   float R = Infinity;         // harmonic mean distance, after clamping (see IrradianceCache)
+  float minR = 0;             // the minimum spacing's floor for R (no clamping goes below it)
   std::array<Vec3, 3> rotationalGradient{Vec3(0.f), Vec3(0.f), Vec3(0.f)};     // per channel (r, g, b)
   std::array<Vec3, 3> translationalGradient{Vec3(0.f), Vec3(0.f), Vec3(0.f)};  // per channel, in the tangent plane
 };

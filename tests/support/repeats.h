@@ -5,6 +5,7 @@
 // over independent seeds, with the variance of that average measured from the
 // seeds' spread, and compared with Student-t critical values.
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 #include "core/film.h"
@@ -22,6 +23,8 @@ struct IntegratorUnderTest {
 // The six integrators with settings small enough for CI at 16×16.
 const std::vector<IntegratorUnderTest>& fastIntegrators();
 std::string integratorTestName(const ::testing::TestParamInfo<IntegratorUnderTest>& info);
+// Printed as its name, so test names (and CTest's) do not carry raw bytes.
+inline void PrintTo(const IntegratorUnderTest& it, std::ostream* os) { *os << it.name; }
 
 struct Rendered {
   std::unique_ptr<Film> film;
