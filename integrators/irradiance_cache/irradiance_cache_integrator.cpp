@@ -92,7 +92,9 @@ void IrradianceCacheIntegrator::runPass(const Film* film, int stride, uint64_t s
     int x = std::min(i * stride + stride / 2, cam.width() - 1), y = std::min(j * stride + stride / 2, cam.height() - 1);
     uint64_t pixel = uint64_t(y) * cam.width() + x;
     sampler.start(pixel, sampleIndex);
-    Vec2 jitter = film ? sampler.get2D() : Vec2(0.5f);
+    // Jittered in the prepass too: exact pixel centres fall on the seams and
+    // diagonals of axis-aligned scenes, where a record belongs to no single surface.
+    Vec2 jitter = sampler.get2D();
     Color L = Li(cam.generateRay(Vec2(x, y) + jitter), sampler, hashValues(seed_, pixel, sampleIndex), tiles[tile], rays);
     if (result) result(x, y, L);
   });

@@ -3,8 +3,11 @@
 // and without the cache. Direct light is left out of every estimate, so only
 // the estimators of indirect light are compared.
 //
-// At the first surface seen through each pixel centre (diffuse, not an
-// emitter) the indirect radiance is L = f·E. The reference E comes from two
+// At the first surface seen through each pixel (diffuse, not an emitter) the
+// indirect radiance is L = f·E. The points are offset from the pixel centres
+// by (0.37, 0.61) of a pixel: centres fall exactly on the box's edges and
+// diagonals, where a point belongs to no single surface and a ray leaving it
+// can slip out between two separate rectangles. The reference E comes from two
 // fine path-traced records (64×128 strata) per point; their difference gives
 // the reference's noise, subtracted from every MSE.
 //   path         one cosine-sampled path per point per pass (the path tracer
@@ -133,7 +136,7 @@ int run(int argc, char** argv) {
   for (int y = 0; y < cam.height(); ++y)
     for (int x = 0; x < cam.width(); ++x) {
       SurfaceInteraction si;
-      if (!sf.scene->intersect(cam.generateRay(Vec2(x + 0.5f, y + 0.5f)), si) || si.emitter || !si.material) continue;
+      if (!sf.scene->intersect(cam.generateRay(Vec2(x + 0.37f, y + 0.61f)), si) || si.emitter || !si.material) continue;
       Vec3 n = glm::dot(si.wo, si.shading.n) < 0 ? -si.shading.n : si.shading.n;
       study.points.push_back({si, n, BSDF(si).eval(si.wo, n, TransportMode::Radiance).f});
     }
