@@ -4,6 +4,7 @@
 #include "core/bsdfs/bsdf.h"
 #include "core/image.h"
 #include "integrators/direct_light.h"
+#include "integrators/photon/photon_tracing.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -200,9 +201,7 @@ Color IrradianceCacheIntegrator::irradiance(const SurfaceInteraction& si, const 
     return E;
   }
   t0 = std::chrono::steady_clock::now();
-  SurfaceInteraction at = si;
-  at.wo = glm::dot(si.wo, n) > 0 ? si.wo : -si.wo;
-  IrradianceRecord r = computeRecordAt(at, key, segmentsLeft, rays, &local.nonFinite);
+  IrradianceRecord r = computeRecordAt(si, key, segmentsLeft, rays, &local.nonFinite);
   float worldPerPixel = pixelAngle_ * glm::length(si.p - scene_->camera.position());
   cache_->clampRadius(r, worldPerPixel);
   local.records.push_back(r);
@@ -238,29 +237,19 @@ IncidentSample IrradianceCacheIntegrator::incident(const Ray& ray, Sampler& samp
   return s;
 }
 
-IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& first, Sampler& sampler, uint64_t& rays) const {
+IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& ray, Sampler& sampler, uint64_t& rays) const {
   // As photon mapping's final gather: through specular surfaces to the first
   // non-specular one, whose reflected radiance the global map estimates.
-  // Emitters reached directly are direct light, counted by NEE at x.
+  // Emission met on the way is left out: straight from an emitter it is
+  // direct light (NEE at x), through specular surfaces a caustic (caustic map).
   thread_local std::vector<std::pair<size_t, float>> scratch;
+  NonSpecularHit hit = traceToNonSpecular(*scene_, ray, sampler, settings_.length.maxSegments(), rays);
   IncidentSample s;
-  Ray ray = first;
-  Color weight(1.f);
-  for (int bounce = 0; bounce < settings_.length.maxSegments(); ++bounce) {
-    SurfaceInteraction y;
-    ++rays;
-    if (!scene_->intersect(ray, y)) return s;
-    if (bounce == 0) s.distance = y.t;
-    if (!y.material) return s;
+  s.distance = hit.firstHitDistance;
+  if (hit.si) {
+    const SurfaceInteraction& y = *hit.si;
     BSDF at(y);
-    if (!at.isDelta()) {
-      s.L = weight * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch);
-      return s;
-    }
-    auto bs = at.sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
-    if (!bs) return s;
-    weight *= bs->weight;
-    ray = y.spawnRay(bs->wi);
+    s.L = hit.beta * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch);
   }
   return s;
 }

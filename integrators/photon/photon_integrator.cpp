@@ -45,26 +45,27 @@ double availableMemoryBytes() {
 }  // namespace
 
 void PhotonMapSettings::checkMemory(const Scene& scene, uint64_t seed, int maxBounces) const {
-  size_t requested = globalPhotons + causticPhotons;
-  if (requested <= PhotonPathsPerChunk) return;
+  // Each stored photon: itself twice while the map is merged, FLANN's copy of
+  // its position, and FLANN's index and tree (about two words).
+  const double bytesPerPhoton = 2 * sizeof(Photon) + 3 * sizeof(float) + 2 * sizeof(size_t);
+  const double limit = 0.9 * availableMemoryBytes();
+  double requested = double(globalPhotons) + double(causticPhotons);
+  // A path stores at most one photon per bounce: if even that fits, no pilot is needed.
+  if (requested * double(maxBounces) * bytesPerPhoton <= limit || requested <= PhotonPathsPerChunk) return;
   std::atomic<uint64_t> stored{0}, causticStored{0};
   tracePhotons(scene, seed, 7, PhotonPathsPerChunk, maxBounces, [&](size_t, const PhotonHit& h) {
     ++stored;
     if (h.specularChain) ++causticStored;
   });
-  double perPath = double(stored) / PhotonPathsPerChunk, causticPerPath = double(causticStored) / PhotonPathsPerChunk;
-  // Each stored photon: itself twice while the map is merged, FLANN's copy of
-  // its position, and FLANN's index and tree (about two words).
-  double bytesPerPhoton = 2 * sizeof(Photon) + 3 * sizeof(float) + 2 * sizeof(size_t);
-  double bytes = (perPath * double(globalPhotons) + causticPerPath * double(causticPhotons)) * bytesPerPhoton;
-  double available = availableMemoryBytes();
-  if (bytes > 0.9 * available) {
+  double photons = double(stored) / PhotonPathsPerChunk * double(globalPhotons) +
+                   double(causticStored) / PhotonPathsPerChunk * double(causticPhotons);
+  double bytes = photons * bytesPerPhoton;
+  if (bytes > limit) {
     char msg[256];
     std::snprintf(msg, sizeof msg,
                   "%zu global + %zu caustic photon paths would store about %.3g photons (%.1f GiB with the kd-tree), "
                   "more than 90%% of the %.1f GiB of memory available; request fewer photons",
-                  globalPhotons, causticPhotons, perPath * double(globalPhotons) + causticPerPath * double(causticPhotons),
-                  bytes / (1 << 30), available / (1 << 30));
+                  globalPhotons, causticPhotons, photons, bytes / (1 << 30), limit / 0.9 / (1 << 30));
     throw ConfigError(file, line, key, msg);
   }
 }
@@ -113,23 +114,6 @@ void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
                 << double(map->memoryBytes()) / (1 << 20) << " MiB, kd-tree build " << map->buildSeconds() << " s\n";
 }
 
-namespace {
-// First non-delta surface along a ray, through specular bounces; false if
-// none within `bounces` (or the ray escapes).
-bool followSpecular(const Scene& scene, Ray ray, Sampler& sampler, int bounces, SurfaceInteraction& si, Color& weight,
-                    uint64_t& rays) {
-  for (int i = 0; i < bounces; ++i) {
-    ++rays;
-    if (!scene.intersect(ray, si) || !si.material) return false;
-    if (!si.material->isDelta()) return true;
-    auto bs = BSDF(si).sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
-    if (!bs) return false;
-    weight *= bs->weight;
-    ray = si.spawnRay(bs->wi);
-  }
-  return false;
-}
-}  // namespace
 
 Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Sampler& sampler, uint64_t& rays,
                            std::vector<std::pair<size_t, float>>& scratch) const {
@@ -166,8 +150,10 @@ Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Samp
       // arriving straight from an emitter that way is a caustic (caustic map).
       auto next = BSDF(y).sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
       if (!next) continue;
-      weight *= next->weight;
-      if (!followSpecular(scene, y.spawnRay(next->wi), sampler, settings_.maxDepth, y, weight, rays)) continue;
+      NonSpecularHit beyond = traceToNonSpecular(scene, y.spawnRay(next->wi), sampler, settings_.maxDepth, rays);
+      if (!beyond.si) continue;
+      weight *= next->weight * beyond.beta;
+      y = *beyond.si;
     }
     if (!y.material) continue;
     BSDF at(y);

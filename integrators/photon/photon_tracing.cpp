@@ -17,6 +17,7 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
       for (const Light* env : scene.infiniteLights()) hit.emitted += hit.beta * env->Le(ray.d);
       break;
     }
+    if (depth == 0) hit.firstHitDistance = si.t;
     if (si.emitter) hit.emitted += hit.beta * si.emitter->L(si.ng, si.wo);
     if (!si.material) break;
     if (!si.material->isDelta()) {

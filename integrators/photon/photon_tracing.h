@@ -30,6 +30,7 @@ constexpr size_t PhotonPathsPerChunk = 4096;
 struct NonSpecularHit {
   Color emitted{0.f};                     // radiance reached along the way
   Color beta{1.f};                        // throughput of the specular chain
+  float firstHitDistance = Infinity;      // of the ray's first surface (infinity if it escaped)
   std::optional<SurfaceInteraction> si;   // the surface, if one was reached
 };
 NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler, int maxDepth, uint64_t& rays);
