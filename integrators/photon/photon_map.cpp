@@ -36,8 +36,9 @@ void PointIndex::radius(const Vec3& q, float radius, std::vector<std::pair<size_
   if (!index_ || !(radius > 0)) return;
   float query[3] = {q.x, q.y, q.z};
   flann::Matrix<float> qm(query, 1, 3);
-  std::vector<std::vector<size_t>> idx;
-  std::vector<std::vector<float>> dist;
+  // Reused per thread: SPPM calls this once per photon (FLANN resizes each row to the result).
+  thread_local std::vector<std::vector<size_t>> idx;
+  thread_local std::vector<std::vector<float>> dist;
   flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0, false);
   index_->radiusSearch(qm, idx, dist, radius * radius, params);  // FLANN takes the squared radius
   for (size_t i = 0; i < idx[0].size(); ++i) out.push_back({idx[0][i], dist[0][i]});
