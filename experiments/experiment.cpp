@@ -60,6 +60,18 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
 
 }  // namespace
 
+std::string slug(const std::string& label) {
+  std::string out;
+  for (char c : label) out += std::isalnum(static_cast<unsigned char>(c)) ? char(std::tolower(c)) : '-';
+  return out;
+}
+
+std::string flowYaml(const YAML::Node& node) {
+  YAML::Emitter e;
+  e << YAML::Flow << node;
+  return e.c_str();
+}
+
 Experiment loadExperiment(const std::string& path, const ExperimentOptions& options) {
   Experiment e;
   e.file = path;
@@ -121,13 +133,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     c.label = cp.getString("label", c.integrator);
     c.params = integratorParams(cp, "params");
     cp.checkUnused();
-    auto fileName = [](const std::string& s) {
-      std::string out;
-      for (char ch : s) out += std::isalnum(static_cast<unsigned char>(ch)) ? char(std::tolower(ch)) : '-';
-      return out;
-    };
     for (const auto& other : e.configurations)
-      if (fileName(other.label) == fileName(c.label))
+      if (slug(other.label) == slug(c.label))
         cp.fail("label", "label '" + c.label + "' collides with '" + other.label +
                              "' (file names use letters and digits, lower case)");
     if (!integratorExists(c.integrator)) {

@@ -57,4 +57,10 @@ struct ExperimentOptions {
 
 Experiment loadExperiment(const std::string& path, const ExperimentOptions& options);
 
+// A configuration label as it appears in file names: letters and digits, lower
+// case, everything else '-'. Labels must differ in this form.
+std::string slug(const std::string& label);
+// A YAML node in flow style, so block and flow spellings of a mapping agree.
+std::string flowYaml(const YAML::Node& node);
+
 }  // namespace lb

@@ -44,11 +44,6 @@ std::string number(double v) {
   return buf;
 }
 
-std::string yamlText(const YAML::Node& n) {
-  YAML::Emitter e;
-  e << YAML::Flow << n;
-  return e.c_str();
-}
 
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
@@ -92,9 +87,9 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     const auto& s = e.scenes[i];
     auto key = m.referenceKeys.find(s.name);
     j << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(s.name) << ", \"file\": " << jsonString(s.path)
-      << ", \"overrides\": " << jsonString(yamlText(s.overrides)) << ", \"reference\": "
+      << ", \"overrides\": " << jsonString(flowYaml(s.overrides)) << ", \"reference\": "
       << jsonString(key == m.referenceKeys.end() ? "" : key->second) << ", \"reference_integrator\": "
-      << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + yamlText(s.reference.params) + " " +
+      << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + flowYaml(s.reference.params) + " " +
                                                    std::to_string(s.reference.spp) + " spp"
                                              : "file")
       << ", \"reference_rmse_floor\": "
@@ -114,14 +109,14 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     makeIntegrator(c.integrator, p);  // resolves defaults
     YAML::Node resolved = p.resolved();
     j << (i ? ",\n    " : "\n    ") << "{\"label\": " << jsonString(c.label) << ", \"integrator\": "
-      << jsonString(c.integrator) << ", \"resolved_parameters\": " << jsonString(yamlText(resolved)) << "}";
+      << jsonString(c.integrator) << ", \"resolved_parameters\": " << jsonString(flowYaml(resolved)) << "}";
   }
   j << "\n  ],\n  \"libraries\": {\"embree\": " << jsonString(RTC_VERSION_STRING) << ", \"tbb\": "
     << jsonString(TBB_VERSION_STRING) << ", \"openexr\": " << jsonString(OPENEXR_VERSION_STRING)
     << ", \"glm\": " << GLM_VERSION << ", \"openmesh\": " << jsonString(std::to_string(OM_VERSION >> 16) + "." + std::to_string((OM_VERSION >> 8) & 0xff))
     << ", \"flann\": " << jsonString(FLANN_VERSION_)
     << ", \"yaml-cpp\": \"0.7 (Debian 12's package; the library has no version macro)\"},\n";
-  j << "  \"experiment_source\": " << jsonString(yamlText(e.source)) << "\n}\n";
+  j << "  \"experiment_source\": " << jsonString(flowYaml(e.source)) << "\n}\n";
   return j.str();
 }
 

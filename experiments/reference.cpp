@@ -16,6 +16,11 @@ struct Fnv1a {
     for (unsigned char c : bytes) h = (h ^ c) * 0x100000001b3ULL;
     h = (h ^ 0xff) * 0x100000001b3ULL;  // separator, so "ab"+"c" differs from "a"+"bc"
   }
+  std::string hex() const {
+    char out[17];
+    std::snprintf(out, sizeof out, "%016llx", (unsigned long long)h);
+    return out;
+  }
 };
 std::string readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -23,20 +28,12 @@ std::string readBytes(const std::string& path) {
   ss << in.rdbuf();
   return ss.str();
 }
-// Flow style throughout, so block and flow spellings of the same mapping agree.
-std::string dump(const YAML::Node& n) {
-  YAML::Emitter e;
-  e << YAML::Flow << n;
-  return e.c_str();
-}
 }  // namespace
 
 std::string hashStrings(const std::vector<std::string>& parts) {
   Fnv1a f;
   for (const auto& p : parts) f.add(p);
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)f.h);
-  return hex;
+  return f.hex();
 }
 
 namespace {
@@ -64,23 +61,20 @@ std::string referenceKey(const ExperimentScene& s) {
   if (root["shapes"] && root["shapes"].IsSequence())
     for (const auto& shape : root["shapes"])
       if (shape.IsMap() && shape["file"]) f.add(readBytes((std::filesystem::path(folder) / shape["file"].as<std::string>()).string()));
-  f.add(dump(referenceOverrides(s)));
+  f.add(flowYaml(referenceOverrides(s)));
   f.add(s.reference.integrator);
-  f.add(dump(s.reference.params));
+  f.add(flowYaml(s.reference.params));
   f.add(std::to_string(s.reference.spp) + "/" + std::to_string(s.reference.seed));
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)f.h);
-  return hex;
+  return f.hex();
 }
 
-Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot) {
+Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot, const std::string& key) {
   if (!s.reference.file.empty()) {
     std::cerr << "reference: " << s.reference.file << " (given)\n";
     return {readExr(s.reference.file)};
   }
   std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
   std::filesystem::create_directories(dir);
-  std::string key = referenceKey(s);
   std::filesystem::path exr = dir / (referenceName(s) + "-" + key + ".exr");
   std::filesystem::path sidecar = dir / (referenceName(s) + "-" + key + ".yaml");
   if (std::filesystem::exists(exr)) {
@@ -106,7 +100,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   Image image = film.image();
   writeExr(exr.string(), image);
   std::ostringstream info;
-  info << "scene: " << referenceScene(s) << "\nintegrator: " << s.reference.integrator << "\nparams: " << dump(s.reference.params)
+  info << "scene: " << referenceScene(s) << "\nintegrator: " << s.reference.integrator << "\nparams: " << flowYaml(s.reference.params)
        << "\nspp: " << s.reference.spp << "\nseed: " << s.reference.seed << "\nseconds: " << rep.seconds
        << "\nnon_finite_samples: " << rep.nonFinite << "\nvariance_of_mean: " << film.meanVarianceOfMean()
        << "\nkey: " << key << "\n";

@@ -22,7 +22,8 @@ struct Reference {
   // the RMSE floor below which no configuration can be seen to improve.
   double varianceOfMean = NAN;
 };
-// Loads or renders (and caches) the reference; reports what it did on stderr.
-Reference obtainReference(const ExperimentScene& scene, const std::string& resultsRoot);
+// Loads or renders (and caches under `key`, the scene's referenceKey) the
+// reference; reports what it did on stderr.
+Reference obtainReference(const ExperimentScene& scene, const std::string& resultsRoot, const std::string& key);
 
 }  // namespace lb

@@ -28,12 +28,6 @@ const char* const LogColumns[] = {"scene", "label", "integrator", "repeat", "see
 
 namespace {
 
-std::string slug(const std::string& s) {
-  std::string out;
-  for (char c : s) out += std::isalnum(static_cast<unsigned char>(c)) ? char(std::tolower(c)) : '-';
-  return out;
-}
-
 std::string csvField(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string q = "\"";
@@ -74,7 +68,7 @@ std::string runKey(const std::string& scene, const std::string& label, const std
 // not finish (no final row) and torn lines are dropped; finished runs stay.
 class LogWriter {
  public:
-  LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) : path_(path) {
+  LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) {
     std::vector<std::string> kept;
     if (resume && fs::exists(path)) {
       std::ifstream in(path);
@@ -106,7 +100,6 @@ class LogWriter {
   }
 
  private:
-  std::string path_;
   std::ofstream out_;
   std::mutex mutex_;
 };
@@ -171,7 +164,10 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   // What a resumed run must share with the one it continues.
   std::vector<std::string> identity = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
                                        std::to_string(e.budget.spp), std::to_string(e.repeats)};
-  for (const auto& s : e.scenes) identity.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  // Each reference's key hashes its scene and mesh files: computed once here.
+  std::vector<std::string> referenceIds;
+  for (const auto& s : e.scenes) referenceIds.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  identity.insert(identity.end(), referenceIds.begin(), referenceIds.end());
   std::string experimentHash = hashStrings(identity);
   if (o.resume && fs::exists(runDir / "meta.json")) {
     std::ifstream in(runDir / "meta.json");
@@ -194,8 +190,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   // References and scenes first (references use every core).
   std::vector<Image> references;
   std::vector<SceneFile> scenes;
-  for (const auto& s : e.scenes) {
-    Reference obtained = obtainReference(s, o.resultsRoot);
+  for (size_t si = 0; si < e.scenes.size(); ++si) {
+    const ExperimentScene& s = e.scenes[si];
+    Reference obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
     Image ref = std::move(obtained.image);
     meta.referenceRmseFloor[s.name] = std::sqrt(obtained.varianceOfMean);
     SceneFile sf = loadScene(s.path, s.overrides);
@@ -209,7 +206,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                                                "×" + std::to_string(ref.height) + " image");
     writePng((runDir / (s.name + "__reference.png")).string(), ref);
     if (!s.crop.empty()) writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(ref, s.crop, 4));
-    meta.referenceKeys[s.name] = s.reference.file.empty() ? referenceKey(s) : s.reference.file;
+    meta.referenceKeys[s.name] = referenceIds[si];
     references.push_back(std::move(ref));
     scenes.push_back(std::move(sf));
   }
