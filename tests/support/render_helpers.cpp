@@ -22,18 +22,19 @@ SceneFile loadShippedScene(const std::string& name, int width, int height, const
   return loadSceneFromString(out.c_str(), path);
 }
 
-std::unique_ptr<Film> renderScene(const SceneFile& sf, const RenderSpec& spec) {
+Rendered renderWithReport(const SceneFile& sf, const RenderSpec& spec) {
   std::unique_ptr<tbb::global_control> limit;
   if (spec.threads > 0)
     limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(spec.threads));
   Params params(YAML::Load(spec.params), "<test>", "integrator");
   auto integrator = makeIntegrator(spec.integrator, params);
-  auto film = std::make_unique<Film>(sf.scene->camera.width(), sf.scene->camera.height());
+  Rendered r;
+  r.film = std::make_unique<Film>(sf.scene->camera.width(), sf.scene->camera.height());
   RenderOptions options;
   options.seed = spec.seed;
   options.budget.spp = spec.spp;
-  renderLoop(*sf.scene, *integrator, *film, sf.sampler, options);
-  return film;
+  r.report = renderLoop(*sf.scene, *integrator, *r.film, sf.sampler, options);
+  return r;
 }
 
 RegionMeans regionMeans(const Film& film, int rx, int ry, const std::vector<bool>* mask) {

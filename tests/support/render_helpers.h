@@ -6,6 +6,7 @@
 #include "core/film.h"
 #include <gtest/gtest.h>
 #include "core/scene_loader.h"
+#include "integrators/render_loop.h"
 #include "tests/support/statistics.h"
 
 namespace lb::test {
@@ -22,7 +23,14 @@ struct RenderSpec {
   uint64_t seed = 1;
   int threads = 0;            // 0: default
 };
-std::unique_ptr<Film> renderScene(const SceneFile& scene, const RenderSpec& spec);
+struct Rendered {
+  std::unique_ptr<Film> film;
+  RenderReport report;  // passes, rays, NaN/Inf count
+};
+Rendered renderWithReport(const SceneFile& scene, const RenderSpec& spec);
+inline std::unique_ptr<Film> renderScene(const SceneFile& scene, const RenderSpec& spec) {
+  return renderWithReport(scene, spec).film;
+}
 
 // Means over a grid of rectangular regions, with the variance of each mean
 // taken from the film's per-pixel variance estimates (independent pixels).

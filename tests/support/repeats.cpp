@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <sstream>
 #include <yaml-cpp/yaml.h>
-#include "integrators/registry.h"
 
 namespace lb::test {
 
@@ -25,15 +24,9 @@ Rendered renderWith(const SceneFile& sf, const IntegratorUnderTest& it, uint64_t
   YAML::Node params = YAML::Load(it.params);
   YAML::Node more = YAML::Load(extra);
   for (auto kv = more.begin(); kv != more.end(); ++kv) params[kv->first.as<std::string>()] = kv->second;
-  Params p(params, "<test>", "integrator");
-  auto integrator = makeIntegrator(it.name, p);
-  Rendered r;
-  r.film = std::make_unique<Film>(sf.scene->camera.width(), sf.scene->camera.height());
-  RenderOptions options;
-  options.seed = seed;
-  options.budget.spp = spp ? spp : it.spp;
-  r.report = renderLoop(*sf.scene, *integrator, *r.film, sf.sampler, options);
-  return r;
+  YAML::Emitter merged;
+  merged << YAML::Flow << params;
+  return renderWithReport(sf, {it.name, merged.c_str(), spp ? spp : it.spp, seed});
 }
 
 SeedMeans seedMeans(const SceneFile& sf, const IntegratorUnderTest& it, int seeds, int rx, int ry, uint64_t first,

@@ -26,10 +26,6 @@ std::string integratorTestName(const ::testing::TestParamInfo<IntegratorUnderTes
 // Printed as its name, so test names (and CTest's) do not carry raw bytes.
 inline void PrintTo(const IntegratorUnderTest& it, std::ostream* os) { *os << it.name; }
 
-struct Rendered {
-  std::unique_ptr<Film> film;
-  RenderReport report;
-};
 // `extraParams` (a YAML mapping) is merged over the integrator's own.
 Rendered renderWith(const SceneFile& scene, const IntegratorUnderTest& integrator, uint64_t seed,
                     const std::string& extraParams = "{}", uint64_t spp = 0);
