@@ -70,7 +70,10 @@ TEST(GeometryExtremes, RaysStartingOnEdgesAndVerticesLeaveTheSurface) {
         }
         touchedNeighbour += step == 0;
         EXPECT_FALSE(next.shapeId == from.shapeId && next.primId == from.primId) << "re-hit its own triangle";
-        // Within the float error of the two points (both ends' error boxes).
+        // Within the float error of the two points: the distance along the
+        // neighbour's normal is at most both ends' error boxes plus the spawn
+        // offset (itself at most one error box), so 3 error reaches; 4 leaves
+        // room for the offset's rounding away from the surface.
         float errorReach = glm::length(from.pError) + glm::length(next.pError);
         EXPECT_LE(next.t * absDot(d, next.ng), 4 * errorReach) << "a real hit, not float error";
         from = next;
