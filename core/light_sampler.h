@@ -16,8 +16,13 @@ class LightSampler {
   LightSampler() = default;
   LightSampler(const std::vector<std::unique_ptr<Light>>& lights, LightSelection selection) {
     std::vector<float> weights;
-    for (const auto& l : lights) weights.push_back(selection == LightSelection::Power ? luminance(l->power()) : 1.f);
-    // All-black lights would make power selection undefined; fall back to uniform.
+    // A light that emits nothing is never chosen, by either rule: choosing it
+    // would waste the sample (and, in BDPT, leave the light subpath empty).
+    for (const auto& l : lights) {
+      float power = luminance(l->power());
+      weights.push_back(!(power > 0) ? 0.f : selection == LightSelection::Power ? power : 1.f);
+    }
+    // All-black lights would make any selection undefined; fall back to uniform.
     bool anyPositive = false;
     for (float w : weights) anyPositive |= w > 0;
     if (!anyPositive) std::fill(weights.begin(), weights.end(), 1.f);

@@ -57,8 +57,10 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     int nCamera = bdpt::generateCameraSubpath(scene, sampler, settings_, raster, camera, rays);
     int nLight = bdpt::generateLightSubpath(scene, sampler, settings_, light, rays);
     Color L(0.f);
+    // s = 1 samples its own light point, so it runs even when the light
+    // subpath is empty (emission sampling failed).
     for (int t = 1; t <= nCamera; ++t)
-      for (int s = 0; s <= nLight; ++s) {
+      for (int s = 0; s <= std::max(nLight, 1); ++s) {
         int segments = s + t - 1;
         if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
         bdpt::Connection c = bdpt::connect(scene, sampler, settings_, light, camera, s, t, rays);

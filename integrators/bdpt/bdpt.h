@@ -45,6 +45,7 @@ struct Connection {
   Color L{0.f};          // unweighted contribution
   float weight = 0;      // MIS weight
   Vec2 raster{0.f};      // t = 1: where to splat
+  Vertex sampled;        // s = 1: the light point; t = 1: the camera (for tests)
 };
 Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& s, std::vector<Vertex>& light,
                    std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);

@@ -57,10 +57,18 @@ float heuristicTerm(MisWeighting h, float r) {
 
 }  // namespace
 
+// MIS weight of strategy (s, t): 1 / Σ_i (p_i / p_s)^β over every strategy i
+// that can generate the same path (Veach 1997 Eq. 10.9 and §10.3.5), with the
+// ratios p_i / p_s built outward from the connection by multiplying
+// pdfRev / pdfFwd one vertex at a time (pbrt §16.3.4). Densities follow
+// vertex.h: area measure, deltas factored out (so specular chains cancel),
+// roulette excluded. Only the light endpoint needs a correction: strategy
+// s = 1 samples it by next-event estimation, every other strategy by emission
+// (or, s = 0, not at all), so p_1 carries neeOverEmit = p_NEE / p_emit
+// relative to the emission density the recursion uses.
 float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, std::vector<Vertex>& camera,
                 const Vertex& sampled, int s, int t) {
   if (s + t == 2) return 1;
-  auto remap0 = [](float f) { return f != 0 ? f : 1.f; };
   Vertex* qs = s > 0 ? &light[size_t(s - 1)] : nullptr;
   Vertex* pt = t > 0 ? &camera[size_t(t - 1)] : nullptr;
   Vertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
@@ -81,19 +89,43 @@ float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, 
   if (qs) a6 = Restore<float>(&qs->pdfRev, vertexPdf(scene, *pt, ptMinus, *qs));
   if (qsMinus) a7 = Restore<float>(&qsMinus->pdfRev, vertexPdf(scene, *qs, pt, *qsMinus));
 
-  // r_i = p_i / p_s along each subpath (Veach Eq. 10.9, as ratios of densities).
+  // The light endpoint y0 and its neighbour on the full path.
+  const Vertex& y0 = s > 0 ? light[0] : *pt;
+  const Vertex& y1 = s > 1 ? light[1] : (s == 1 ? *pt : *ptMinus);
+  float pEmit = pdfLightOrigin(scene, y0, y1);
+  float neeOverEmit = pEmit > 0 ? pdfLightNee(scene, y0, y1) / pEmit : 0.f;
+  // term(r, s'): the heuristic's term for strategy s' whose ratio to p_s,
+  // with emission densities at y0 throughout, is r.
+  auto term = [&](float r, int sOther) {
+    if (sOther == 1) r *= neeOverEmit;
+    if (s == 1) r = neeOverEmit > 0 ? r / neeOverEmit : 0.f;
+    return heuristicTerm(h, r);
+  };
+  // A strategy whose own density is zero never produces this path: weight 0.
+  // Beyond a zero reverse density every further strategy is impossible: r = 0.
+  if (s == 1 && neeOverEmit == 0) return 0;
+  bool ownZero = false;
+  auto ratio = [&](float rev, float fwd) {
+    ownZero |= !(fwd > 0);
+    return fwd > 0 ? rev / fwd : 0.f;
+  };
+
   float sum = 0, r = 1;
+  // Camera side: moving the connection one vertex towards the camera gives
+  // strategy s' = s + t - i, which connects camera[i - 1] and camera[i].
   for (int i = t - 1; i > 0; --i) {
-    r *= remap0(camera[size_t(i)].pdfRev) / remap0(camera[size_t(i)].pdfFwd);
-    if (!camera[size_t(i)].delta && !camera[size_t(i - 1)].delta) sum += heuristicTerm(h, r);
+    r *= ratio(camera[size_t(i)].pdfRev, camera[size_t(i)].pdfFwd);
+    if (!camera[size_t(i)].delta && !camera[size_t(i - 1)].delta) sum += term(r, s + t - i);
   }
+  // Light side: strategy s' = i connects light[i - 1] and light[i]; s' = 0
+  // needs a light that rays can hit.
   r = 1;
   for (int i = s - 1; i >= 0; --i) {
-    r *= remap0(light[size_t(i)].pdfRev) / remap0(light[size_t(i)].pdfFwd);
+    r *= ratio(light[size_t(i)].pdfRev, light[size_t(i)].pdfFwd);
     bool deltaBefore = i > 0 ? light[size_t(i - 1)].delta : light[0].isDeltaLight();
-    if (!light[size_t(i)].delta && !deltaBefore) sum += heuristicTerm(h, r);
+    if (!light[size_t(i)].delta && !deltaBefore) sum += term(r, i);
   }
-  return 1 / (1 + sum);
+  return ownZero ? 0.f : 1 / (1 + sum);
 }
 
 Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& settings, std::vector<Vertex>& light,
@@ -142,6 +174,7 @@ Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& set
     }
   }
   c.weight = isBlack(c.L) ? 0.f : misWeight(scene, settings.mis, light, camera, sampled, s, t);
+  if (s == 1 || t == 1) c.sampled = sampled;
   return c;
 }
 

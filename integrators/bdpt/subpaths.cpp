@@ -36,12 +36,12 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
     auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), mode);
     if (!bs) break;
     beta *= bs->weight;
+    // A delta lobe keeps its discrete probability as its density (vertex.h):
+    // the next vertex's area density still carries |cos|/d² of this segment,
+    // so that a specular chain's geometry cancels between strategies.
     float pdfRev = bs->pdfRev;
     pdfFwd = bs->pdf;
-    if (bs->isDelta()) {
-      v.delta = true;
-      pdfFwd = pdfRev = 0;
-    }
+    v.delta = bs->isDelta();
     prev.pdfRev = convertDensity(v, pdfRev, prev);
     if (isBlack(beta)) break;
     if (mode == TransportMode::Radiance && (bs->lobe & BSDFTransmission)) etaScale *= sqr(bs->eta);

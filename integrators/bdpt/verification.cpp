@@ -3,6 +3,22 @@
 namespace lb::bdpt {
 
 namespace {
+// Area density of sampling `next` from v (arrived from prev). At a delta
+// vertex the BSDF has no density to evaluate; its discrete lobe probability
+// (vertex.h) is found by sampling both lobes and keeping the one that leaves
+// towards `next`.
+float densityTowards(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next) {
+  if (!(v.type == VertexType::Surface && v.si.material && v.si.material->isDelta()))
+    return vertexPdf(scene, v, prev, next);
+  BSDF bsdf(v.si);
+  Vec3 wo = prev ? glm::normalize(prev->p - v.p) : v.si.wo, wn = glm::normalize(next.p - v.p);
+  float best = -1, pdf = 0;
+  for (float uLobe : {0.f, 0.999999f})
+    if (auto bs = bsdf.sample(wo, uLobe, Vec2(0.5f), TransportMode::Radiance))
+      if (float c = glm::dot(bs->wi, wn); c > best) best = c, pdf = bs->pdf;
+  return convertDensity(v, pdf, next);
+}
+
 // Re-derives pdfFwd / pdfRev along one subpath (vertex 0 = its origin).
 void recompute(const Scene& scene, std::vector<Vertex>& sub, bool lightPath) {
   size_t n = sub.size();
@@ -10,8 +26,8 @@ void recompute(const Scene& scene, std::vector<Vertex>& sub, bool lightPath) {
     Vertex& v = sub[i];
     if (i == 0) v.pdfFwd = lightPath ? pdfLightOrigin(scene, v, n > 1 ? sub[1] : v) : 0.f;
     else if (i == 1 && lightPath) v.pdfFwd = pdfLight(scene, sub[0], v);
-    else v.pdfFwd = vertexPdf(scene, sub[i - 1], i >= 2 ? &sub[i - 2] : nullptr, v);
-    v.pdfRev = i + 1 < n ? vertexPdf(scene, sub[i + 1], i + 2 < n ? &sub[i + 2] : nullptr, v) : 0.f;
+    else v.pdfFwd = densityTowards(scene, sub[i - 1], i >= 2 ? &sub[i - 2] : nullptr, v);
+    v.pdfRev = i + 1 < n ? densityTowards(scene, sub[i + 1], i + 2 < n ? &sub[i + 2] : nullptr, v) : 0.f;
   }
 }
 

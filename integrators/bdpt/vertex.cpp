@@ -115,6 +115,9 @@ float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to) {
 float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to) {
   Vec3 w = v.isInfiniteLight() && !v.light ? -v.escapeDir : glm::normalize(to.p - v.p);
   const LightSampler& lights = scene.lightSampler();
+  // Delta lights: the position (or direction) is a delta common to every
+  // strategy that can use them; only the choice of the light remains.
+  if (v.isDeltaLight()) return lights.pmf(v.light);
   if (v.isInfiniteLight()) {
     // Any infinite light could have been chosen: sum their solid-angle pdfs
     // of the direction from `to` towards infinity.
@@ -127,6 +130,18 @@ float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to) {
   float pdfPos, pdfDir;
   light->pdfLe(v.p, v.ng, w, &pdfPos, &pdfDir);
   return lights.pmf(light) * pdfPos;
+}
+
+float pdfLightNee(const Scene& scene, const Vertex& v, const Vertex& ref) {
+  const Light* light = v.emitter();
+  if (v.isInfiniteLight() || v.isDeltaLight()) return pdfLightOrigin(scene, v, ref);  // same sampling both ways
+  if (!light) return 0;
+  Vec3 d = v.p - ref.p;
+  float d2 = glm::dot(d, d);
+  if (d2 == 0) return 0;
+  Vec3 wi = d / std::sqrt(d2);
+  // sampleLi's solid-angle density at ref, as an area density at v.
+  return scene.lightSampler().pmf(light) * light->pdfLi(ref.p, wi, v.p, v.ng) * absDot(v.ng, wi) / d2;
 }
 
 Color emitted(const Scene& scene, const Vertex& v, const Vertex& to) {

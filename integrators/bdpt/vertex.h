@@ -5,9 +5,23 @@
 //    subpath; pdfRev: density of generating it from its successor, i.e. when
 //    the path is sampled from the other end. Both are per unit AREA (per solid
 //    angle for vertices at infinity, which have no area).
-//  * Delta vertices (specular scattering) store pdfFwd = pdfRev = 0; the MIS
-//    recursion reads a zero as 1 so neighbours' ratios stay correct, and skips
-//    strategies that would connect at a delta vertex.
+//  * A delta lobe (mirror, glass) samples its direction with a discrete
+//    probability P, the same in both directions (Fresnel is symmetric). Its
+//    "density" is kept as P per unit solid angle, i.e. the delta itself is
+//    factored out (Veach 1997 §8.2.2): every strategy that can generate a path
+//    passes through the same specular vertices by sampling and carries the
+//    same deltas, which cancel in the ratios. The neighbours' area densities
+//    keep their |cos|/d² conversions, so a specular chain's generalised
+//    geometry term appears in every strategy and cancels too. (pbrt-v3 stored
+//    0 here and read it as 1, dropping those conversions: through a chain
+//    L S S D E that over-weights the camera strategy by d01²/d23²·… — ~100×
+//    on a caustic.) Strategies that would connect at a delta vertex are
+//    skipped. Refraction's η² change of solid-angle measure is ignored, as in
+//    SmallVCM: it cancels on paths that enter and leave the same medium.
+//  * The light endpoint has two densities: emission sampling's (pdfFwd of a
+//    light subpath's first vertex) and next-event estimation's (s = 1, which
+//    samples a sphere's cone, not its area); misWeight uses each where it
+//    belongs.
 //  * Russian roulette does not enter these pdfs: the weights of all strategies
 //    that can generate a path still sum to 1, which keeps every estimator
 //    unbiased (references.md, "BDPT bookkeeping"); roulette only reweights β.
@@ -52,8 +66,13 @@ Color vertexF(const Vertex& v, const Vertex& next, TransportMode mode);
 float vertexPdf(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next);
 // Area density of light vertex (or emitting surface) v emitting towards `to`.
 float pdfLight(const Scene& scene, const Vertex& v, const Vertex& to);
-// Density of choosing v's light and sampling v on it (area; solid angle at infinity).
+// Density of choosing v's light and sampling v on it by emission sampling
+// (area; solid angle at infinity; the selection probability alone for delta
+// lights, whose position is a delta shared by every strategy that can use them).
 float pdfLightOrigin(const Scene& scene, const Vertex& v, const Vertex& to);
+// Density of the same light point sampled by next-event estimation from `ref`
+// (sampleLi: spheres sample their cone, not their area), in the same measure.
+float pdfLightNee(const Scene& scene, const Vertex& v, const Vertex& ref);
 // Radiance emitted from v towards `to` (area light surface or escaped ray).
 Color emitted(const Scene& scene, const Vertex& v, const Vertex& to);
 

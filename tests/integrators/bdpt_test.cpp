@@ -26,6 +26,10 @@ double sumTolerance(size_t n) { return 16.0 * double(n) * std::numeric_limits<fl
 // camera → glass → glass → directional light (L S S E with a delta light):
 // such paths carry no contribution in any renderer.
 bool expectWeightsSumToOne(const Scene& scene, const std::vector<Vertex>& path, const char* what) {
+  // A path that reaches an emitter's unlit side carries nothing, and emission
+  // sampling cannot produce it: the strategies that could are not defined.
+  const Vertex& end = path.back();
+  if (end.type == bdpt::VertexType::Surface && isBlack(bdpt::emitted(scene, end, path[path.size() - 2]))) return false;
   for (MisWeighting h : {MisWeighting::Balance, MisWeighting::Power, MisWeighting::Uniform}) {
     auto w = bdpt::strategyWeights(scene, h, path);
     double sum = 0;
