@@ -5,6 +5,18 @@
 //   max_depth  32    maximum path length in SEGMENTS (the camera ray is 1,
 //                    direct light is 2); -1 = unlimited (requires rr; BDPT
 //                    caps it at 4096 segments, the size of its subpath arrays)
+//
+// The path-length rule, the same for all six integrators: max_depth bounds
+// the TOTAL number of segments from the camera to the light, however the
+// path was built. A path joined from a camera part of j segments and a light
+// part of k segments counts j + k (plus one for a connecting segment, as in
+// BDPT and NEE): a photon stored after k segments from the light (photon
+// mapping, SPPM, the irradiance cache's photon base) may only be used at a
+// camera vertex reached after j segments if j + k <= max_depth, a final-gather
+// or record ray adds its own segments to j, and an irradiance record computed
+// for the segments left after j is only reused at that same j. So at equal
+// max_depth every integrator estimates the same truncated integral; 0 renders
+// black and 1 shows only the emitters seen directly.
 //   rr         true  Russian roulette on the path throughput
 //   rr_depth   3     segments before roulette may start
 #include "core/params.h"

@@ -5,7 +5,8 @@ namespace lb {
 IrradianceCache::IrradianceCache(CacheSettings settings, const Bounds3& sceneBounds)
     : settings_(settings), octree_(sceneBounds) {}
 
-bool IrradianceCache::interpolate(const Vec3& p, const Vec3& n, const LocalRecords& local, Color& E) const {
+bool IrradianceCache::interpolate(const Vec3& p, const Vec3& n, const LocalRecords& local, Color& E,
+                                  int segmentsLeft) const {
   // E(x) = Σ w_i E_i(x) / Σ w_i over records with w_i > 1/a (Ward 1988).
   const float minWeight = 1 / settings_.a;
   // At a record's own position w = ∞; capping it (a distance of 1e-6 R) keeps
@@ -14,6 +15,7 @@ bool IrradianceCache::interpolate(const Vec3& p, const Vec3& n, const LocalRecor
   double sumW = 0;
   Color sum(0.f);
   auto consider = [&](const IrradianceRecord& r) {
+    if (segmentsLeft >= 0 && r.segmentsLeft != segmentsLeft) return;  // another path-length budget
     float w = wardWeight(r, p, n);
     if (!(w > minWeight) || recordInFrontOf(r, p, n)) return;
     w = std::min(w, MaxWeight);

@@ -36,7 +36,8 @@ class IrradianceCache {
 
   // Interpolated irradiance at (p, n) from the shared records and `local`'s;
   // false if no record is valid there (Σ w over records with w > 1/a is zero).
-  bool interpolate(const Vec3& p, const Vec3& n, const LocalRecords& local, Color& E) const;
+  // Only records computed for `segmentsLeft` count (-1: every record).
+  bool interpolate(const Vec3& p, const Vec3& n, const LocalRecords& local, Color& E, int segmentsLeft = -1) const;
 
   // Clamps a freshly computed record's R: gradient limit R ≤ E/|∇_t E| (when
   // gradients are on), then a·R into [min, max] spacing; `worldPerPixel` is

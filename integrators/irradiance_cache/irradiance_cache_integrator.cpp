@@ -69,9 +69,10 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
   if (settings_.base == CacheBase::Photon) {
     query_ = settings_.photonMaps.queryFor(scene);
     uint64_t seed = hashValues(seed_, 0x1cac4e);
-    settings_.photonMaps.checkMemory(scene, seed, settings_.length.maxSegments());
-    global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, settings_.length.maxSegments(), false);
-    caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, settings_.length.maxSegments(), true);
+    int photonSegments = std::max(0, settings_.length.maxSegments() - 1);  // camera paths have at least one
+    settings_.photonMaps.checkMemory(scene, seed, photonSegments);
+    global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, photonSegments, false);
+    caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, photonSegments, true);
   }
   // Lazy creation, coarse to fine (Tabellion & Lamorlette 2004): sparse pixels
   // first, so the records they create cover most of the image before the
@@ -163,7 +164,7 @@ Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint
       Vec3 n = glm::dot(si.wo, bsdf.shadingNormal()) < 0 ? -bsdf.shadingNormal() : bsdf.shadingNormal();
       thread_local std::vector<std::pair<size_t, float>> scratch;
       if (settings_.base == CacheBase::Photon)
-        L += beta * caustic_.radiance(si.p, si.ng, query_, [&](const Vec3& wi) { return bsdf.eval(si.wo, wi, TransportMode::Radiance).f; }, scratch);
+        L += beta * caustic_.radiance(si, query_, maxDepth - segments, [&](const Vec3& wi) { return bsdf.eval(si.wo, wi, TransportMode::Radiance).f; }, scratch);
       Color E = irradiance(si, n, key, maxDepth - segments, local, rays);
       L += beta * bsdf.eval(si.wo, n, TransportMode::Radiance).f * E;
       break;
@@ -191,9 +192,11 @@ Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint
 Color IrradianceCacheIntegrator::irradiance(const SurfaceInteraction& si, const Vec3& n, uint64_t key,
                                             int segmentsLeft, LocalRecords& local, uint64_t& rays) const {
   if (segmentsLeft < 2) return Color(0.f);  // x → y → light needs two more segments
+  // A record holds paths of up to segmentsLeft segments: it serves only this budget (path_length.h).
+  int budget = settings_.length.maxDepth < 0 ? -1 : segmentsLeft;
   auto t0 = std::chrono::steady_clock::now();
   Color E;
-  bool found = cache_->interpolate(si.p, n, local, E);
+  bool found = cache_->interpolate(si.p, n, local, E, budget);
   local.lookupSeconds += secondsSince(t0);
   ++local.lookups;
   if (found) {
@@ -204,6 +207,7 @@ Color IrradianceCacheIntegrator::irradiance(const SurfaceInteraction& si, const 
   IrradianceRecord r = computeRecordAt(si, key, segmentsLeft, rays, &local.nonFinite);
   float worldPerPixel = pixelAngle_ * glm::length(si.p - scene_->camera.position());
   cache_->clampRadius(r, worldPerPixel);
+  r.segmentsLeft = budget;
   local.records.push_back(r);
   local.recordSeconds += secondsSince(t0);
   return r.E;
@@ -231,25 +235,27 @@ IrradianceRecord IrradianceCacheIntegrator::computeRecordAt(const SurfaceInterac
 
 IncidentSample IrradianceCacheIntegrator::incident(const Ray& ray, Sampler& sampler, int segmentsLeft,
                                                    uint64_t& rays) const {
-  if (settings_.base == CacheBase::Photon) return photonIncident(ray, sampler, rays);
+  if (settings_.base == CacheBase::Photon) return photonIncident(ray, sampler, segmentsLeft, rays);
   IncidentSample s;
   s.L = base_.incidentRadiance(ray, *scene_, sampler, rays, segmentsLeft, false, &s.distance);
   return s;
 }
 
-IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& ray, Sampler& sampler, uint64_t& rays) const {
+IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& ray, Sampler& sampler, int segmentsLeft,
+                                                         uint64_t& rays) const {
   // As photon mapping's final gather: through specular surfaces to the first
   // non-specular one, whose reflected radiance the global map estimates.
   // Emission met on the way is left out: straight from an emitter it is
   // direct light (NEE at x), through specular surfaces a caustic (caustic map).
+  // The walk and the photon share segmentsLeft; a photon has at least one.
   thread_local std::vector<std::pair<size_t, float>> scratch;
-  NonSpecularHit hit = traceToNonSpecular(*scene_, ray, sampler, settings_.length.maxSegments(), rays);
+  NonSpecularHit hit = traceToNonSpecular(*scene_, ray, sampler, segmentsLeft - 1, rays);
   IncidentSample s;
   s.distance = hit.firstHitDistance;
   if (hit.si) {
     const SurfaceInteraction& y = *hit.si;
     BSDF at(y);
-    s.L = hit.beta * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch);
+    s.L = hit.beta * global_.radiance(y, query_, segmentsLeft - hit.segments, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch);
   }
   return s;
 }

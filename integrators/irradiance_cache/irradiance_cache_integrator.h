@@ -24,7 +24,9 @@
 //                               pixel strides 2^levels … 2 (0: none)
 //   base               path     path | photon
 //   record_image       true     write <output>_records.png: records over the render
-//   max_depth, rr, rr_depth     as for the path tracer (path_length.h)
+//   max_depth, rr, rr_depth     as for the path tracer (path_length.h); a record
+//                               computed for the segments left after a camera
+//                               path of j segments serves only lookups at that j
 //   base photon only:  global_photons (200000), caustic_photons (200000),
 //                      k (30), max_radius (0: 5% of the scene's radius)
 //
@@ -84,7 +86,7 @@ class IrradianceCacheIntegrator final : public Integrator {
   Color Li(const Ray& ray, Sampler& sampler, uint64_t key, LocalRecords& local, uint64_t& rays) const;
   Color irradiance(const SurfaceInteraction& si, const Vec3& n, uint64_t key, int segmentsLeft, LocalRecords& local,
                    uint64_t& rays) const;
-  IncidentSample photonIncident(const Ray& ray, Sampler& sampler, uint64_t& rays) const;
+  IncidentSample photonIncident(const Ray& ray, Sampler& sampler, int segmentsLeft, uint64_t& rays) const;
   void runPass(const Film* film, int stride, uint64_t sampleIndex, const Sampler& prototype, PassStats& stats,
                const std::function<void(int x, int y, const Color&)>& result);
 

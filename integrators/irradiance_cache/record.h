@@ -24,6 +24,9 @@ struct IrradianceRecord {
   float minR = 0;             // the minimum spacing's floor for R (no clamping goes below it)
   std::array<Vec3, 3> rotationalGradient{Vec3(0.f), Vec3(0.f), Vec3(0.f)};     // per channel (r, g, b)
   std::array<Vec3, 3> translationalGradient{Vec3(0.f), Vec3(0.f), Vec3(0.f)};  // per channel, in the tangent plane
+  // The segments its paths were allowed beyond the camera path (path_length.h):
+  // a record serves only lookups with the same budget; -1: any (unlimited depth).
+  int segmentsLeft = -1;
 };
 
 // Ward's weight of record `r` at (p, n); infinite where p = r.p and n = r.n.

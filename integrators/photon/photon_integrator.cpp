@@ -19,7 +19,8 @@ PhotonMapSettings PhotonMapSettings::read(Params& p) {
   if (caustic < 0) p.fail("caustic_photons", "must not be negative");
   s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
   int k = p.getInt("k", 30);
-  if (k < 1) p.fail("k", "must be at least 1");
+  // The k-th photon only sets the radius (photon_map.h): k = 1 estimates nothing.
+  if (k < 2) p.fail("k", "must be at least 2 (the k-th nearest photon only sets the radius)");
   s.query.k = size_t(k);
   s.maxRadius = p.getFloat("max_radius", 0);
   if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
@@ -78,7 +79,7 @@ PhotonSettings PhotonSettings::read(Params& p) {
   s.finalGather = p.getInt("final_gather", 8);
   if (s.finalGather < 0) p.fail("final_gather", "must not be negative");
   s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < 1) p.fail("max_depth", "must be at least 1");
+  if (s.maxDepth < 0) p.fail("max_depth", "must not be negative");
   s.densityImages = p.getBool("density_images", false);
   s.stats = p.getBool("stats", false);
   p.checkUnused();
@@ -91,7 +92,7 @@ PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int ma
   std::vector<std::vector<Photon>> perChunk(chunks);
   uint64_t traced = tracePhotons(scene, seed, causticOnly ? 1 : 0, paths, maxBounces, [&](size_t c, const PhotonHit& h) {
     if (causticOnly && !h.specularChain) return;
-    perChunk[c].push_back({h.si->p, h.wi, h.beta / float(paths), h.si->ng});
+    perChunk[c].push_back({h.si->p, h.wi, h.beta / float(paths), h.si->ng, h.bounces + 1});
   });
   if (rays) *rays = traced;
   std::vector<Photon> all;
@@ -105,9 +106,11 @@ void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
   // Photon streams derive from the run's seed: repeats with distinct seeds
   // get independent photon maps, so their spread measures the estimator's.
   uint64_t seed = hashValues(prototype.seed(), 0x5eed);
-  settings_.checkMemory(scene, seed, settings_.maxDepth);
-  global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, settings_.maxDepth, false);
-  caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, settings_.maxDepth, true);
+  // Photons are used by camera paths of at least one segment (path_length.h).
+  int photonSegments = std::max(0, settings_.maxDepth - 1);
+  settings_.checkMemory(scene, seed, photonSegments);
+  global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, photonSegments, false);
+  caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, photonSegments, true);
   if (settings_.stats)
     for (auto [name, map] : {std::pair{"global", &global_}, std::pair{"caustic", &caustic_}})
       std::cerr << "photon map " << name << ": " << map->size() << " photons stored, "
@@ -115,50 +118,62 @@ void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
 }
 
 
-Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, Sampler& sampler, uint64_t& rays,
-                           std::vector<std::pair<size_t, float>>& scratch) const {
+Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, int segmentsLeft, Sampler& sampler,
+                           uint64_t& rays, std::vector<std::pair<size_t, float>>& scratch) const {
+  // Every term below is a path of at most segmentsLeft more segments (path_length.h).
+  if (segmentsLeft < 1) return Color(0.f);
   BSDF bsdf(x);
   bool glossy = bsdf.flags() & BSDFGlossy;
   const LightSampler& lights = scene.lightSampler();
+  int n = settings_.finalGather;
+  auto f = [&](const Vec3& wi) { return bsdf.eval(x.wo, wi, TransportMode::Radiance).f; };
   Color L(0.f);
-  // Direct light: NEE, MIS-weighted against the gather rays on glossy surfaces.
+  // Direct light: NEE, MIS-weighted against the gather rays on glossy
+  // surfaces (Veach 1997 §9.2.4: n gather samples count n times in the power heuristic).
   if (auto d = sampleDirectLight(scene, x, bsdf, sampler, rays)) {
-    float w = glossy && !d->deltaLight && settings_.finalGather > 0
-                  ? powerHeuristic(d->lightPdf, float(settings_.finalGather) * d->bsdfPdf)
-                  : 1.f;
+    float w = glossy && !d->deltaLight && n > 0 ? powerHeuristic(d->lightPdf, float(n) * d->bsdfPdf) : 1.f;
     L += d->contribution * w;
   }
   // Caustics: L S+ D light at x.
-  L += caustic_.radiance(x.p, x.ng, query_, [&](const Vec3& wi) { return bsdf.eval(x.wo, wi, TransportMode::Radiance).f; },
-                         scratch);
-  // Indirect light: final gathering into the global map.
-  int n = settings_.finalGather;
+  L += caustic_.radiance(x, query_, segmentsLeft, f, scratch);
+  // Indirect light: final gathering into the global map. On diffuse surfaces
+  // a gather ray needs a photon of at least one segment beyond it.
+  if (!glossy && segmentsLeft < 2) return L;
   for (int g = 0; g < n; ++g) {
     auto bs = bsdf.sample(x.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
     if (!bs) continue;
+    // The other half of the glossy MIS pair: emission the gather ray reaches directly.
+    bool misPartner = glossy && !bs->isDelta();
+    auto emitted = [&](const Light* light, const Color& Le, float pdfLi) {
+      return bs->weight * Le * powerHeuristic(float(n) * bs->pdf, lights.pmf(light) * pdfLi) / float(n);
+    };
     SurfaceInteraction y;
     ++rays;
     Ray ray = x.spawnRay(bs->wi);
-    if (!scene.intersect(ray, y)) continue;
-    if (y.emitter && glossy && !bs->isDelta()) {  // the other half of the glossy MIS pair
-      float lightPdf = lights.pmf(y.emitter) * y.emitter->pdfLi(x.p, bs->wi, y.p, y.ng);
-      L += bs->weight * y.emitter->L(y.ng, y.wo) * powerHeuristic(float(n) * bs->pdf, lightPdf) / float(n);
+    if (!scene.intersect(ray, y)) {
+      if (misPartner)
+        for (const Light* env : scene.infiniteLights()) L += emitted(env, env->Le(ray.d), env->pdfLi(x.p, ray.d, {}, {}));
+      continue;
     }
+    if (y.emitter && misPartner) L += emitted(y.emitter, y.emitter->L(y.ng, y.wo), y.emitter->pdfLi(x.p, bs->wi, y.p, y.ng));
     Color weight = bs->weight;
+    int gatherSegments = 1;
     if (y.material && y.material->isDelta()) {
       // Light reaching x through specular surfaces from a diffuse one; light
       // arriving straight from an emitter that way is a caustic (caustic map).
       auto next = BSDF(y).sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
       if (!next) continue;
-      NonSpecularHit beyond = traceToNonSpecular(scene, y.spawnRay(next->wi), sampler, settings_.maxDepth, rays);
+      NonSpecularHit beyond = traceToNonSpecular(scene, y.spawnRay(next->wi), sampler, segmentsLeft - 2, rays);
       if (!beyond.si) continue;
       weight *= next->weight * beyond.beta;
+      gatherSegments += beyond.segments;
       y = *beyond.si;
     }
     if (!y.material) continue;
     BSDF at(y);
-    L += weight * global_.radiance(y.p, y.ng, query_, [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; },
-                                   scratch) / float(n);
+    L += weight * global_.radiance(y, query_, segmentsLeft - gatherSegments,
+                                   [&](const Vec3& wi) { return at.eval(y.wo, wi, TransportMode::Radiance).f; }, scratch) /
+         float(n);
   }
   return L;
 }
@@ -168,13 +183,14 @@ Color PhotonMapper::Li(const Ray& cameraRay, const Scene& scene, Sampler& sample
   NonSpecularHit hit = traceToNonSpecular(scene, cameraRay, sampler, settings_.maxDepth, rays);
   if (!hit.si) return hit.emitted;
   const SurfaceInteraction& x = *hit.si;
+  int segmentsLeft = settings_.maxDepth - hit.segments;
   if (settings_.finalGather == 0) {  // visualise the global map: all light at x from photons
     BSDF bsdf(x);
-    return hit.emitted + hit.beta * global_.radiance(x.p, x.ng, query_, [&](const Vec3& wi) {
+    return hit.emitted + hit.beta * global_.radiance(x, query_, segmentsLeft, [&](const Vec3& wi) {
              return bsdf.eval(x.wo, wi, TransportMode::Radiance).f;
            }, scratch);
   }
-  return hit.emitted + hit.beta * gather(scene, x, sampler, rays, scratch);
+  return hit.emitted + hit.beta * gather(scene, x, segmentsLeft, sampler, rays, scratch);
 }
 
 std::vector<std::string> PhotonMapper::writeExtraOutputs(const std::string& stem) const {
@@ -190,7 +206,7 @@ std::vector<std::string> PhotonMapper::writeExtraOutputs(const std::string& stem
       for (int x = 0; x < cam.width(); ++x) {
         SurfaceInteraction si;
         if (scene_->intersect(cam.generateRay(Vec2(x + 0.5f, y + 0.5f)), si))
-          img.at(x, y) = map->radiance(si.p, si.ng, query_, [](const Vec3&) { return Color(1.f); }, scratch);
+          img.at(x, y) = map->radiance(si, query_, settings_.maxDepth - 1, [](const Vec3&) { return Color(1.f); }, scratch);
       }
     std::string path = stem + "_" + name + "_density.exr";
     writeExr(path, img);

@@ -3,7 +3,8 @@
 // Mapping", 2001). Preprocess traces two photon maps; each camera sample then
 // follows specular bounces to the first non-specular surface x and adds
 //   direct light     next-event estimation (MIS with the gather rays where
-//                    the BSDF is glossy)
+//                    the BSDF is glossy: those reaching an emitter or
+//                    escaping to the environment add its weighted radiance)
 //   caustics         the caustic map (L S+ D photons) at x
 //   indirect light   final gathering: `final_gather` BSDF-sampled rays, each
 //                    looking up the global map where it lands (through
@@ -12,11 +13,11 @@
 //
 //   global_photons   200000  photon paths emitted for the global map
 //   caustic_photons  200000  photon paths emitted for the caustic map
-//   k                30      photons per density estimate
+//   k                30      photons per density estimate (at least 2: the k-th sets the radius)
 //   max_radius       0       largest gather radius (world units); 0 = 5% of the scene's radius
 //   filter           cone    cone | epanechnikov | box
 //   final_gather     8       gather rays per camera sample (0: visualise the global map)
-//   max_depth        32      segments: camera specular chains and photon paths
+//   max_depth        32      total path length in segments, camera to light (path_length.h)
 //   density_images   false   also write each map's photon density (irradiance) image
 //   stats            false   print map statistics (photons stored, memory, build time)
 //
@@ -64,7 +65,7 @@ class PhotonMapper final : public PixelIntegrator {
   Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override;
 
  private:
-  Color gather(const Scene& scene, const SurfaceInteraction& x, Sampler& sampler, uint64_t& rays,
+  Color gather(const Scene& scene, const SurfaceInteraction& x, int segmentsLeft, Sampler& sampler, uint64_t& rays,
                std::vector<std::pair<size_t, float>>& scratch) const;
   PhotonSettings settings_;
   DensityQuery query_;

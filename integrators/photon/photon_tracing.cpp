@@ -22,6 +22,7 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
     if (!si.material) break;
     if (!si.material->isDelta()) {
       hit.si = si;
+      hit.segments = depth + 1;
       break;
     }
     auto bs = BSDF(si).sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);

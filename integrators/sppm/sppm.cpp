@@ -21,7 +21,7 @@ SppmSettings SppmSettings::read(Params& p) {
   s.relativeRadius = p.getFloat("relative_radius", 0.02f);
   if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
   s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < 1) p.fail("max_depth", "must be at least 1");
+  if (s.maxDepth < 0) p.fail("max_depth", "must not be negative");
   s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"}) == "grid";
   p.checkUnused();
   return s;
@@ -31,6 +31,7 @@ namespace {
 struct VisiblePoint {
   SurfaceInteraction si;
   Color beta{0.f};
+  int segments = 0;  // camera segments to the point: photons of max_depth − segments may land here
   bool valid = false;
 };
 struct Deposit {
@@ -82,9 +83,9 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
     NonSpecularHit hit = traceToNonSpecular(scene, ray, sampler, settings_.maxDepth, rays);
     Color L = hit.emitted;
-    if (hit.si) {  // the visible point: direct light by NEE here
+    if (hit.si && hit.segments < settings_.maxDepth) {  // the visible point: direct light by NEE here
       if (auto d = sampleDirectLight(scene, *hit.si, BSDF(*hit.si), sampler, rays)) L += hit.beta * d->contribution;
-      vps[size_t(y) * W + x] = {*hit.si, hit.beta, true};
+      vps[size_t(y) * W + x] = {*hit.si, hit.beta, hit.segments, true};
     }
     direct.add(x, y, L, pass, film);
   });
@@ -109,9 +110,16 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   size_t M = settings_.photonsPerPass;
   size_t chunks = (M + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
   std::vector<std::vector<Deposit>> deposits(chunks);
-  if (!positions.empty())
-    stats.rays += tracePhotons(scene, hashValues(prototype.seed(), 0x5995eedULL), pass, M, settings_.maxDepth, [&](size_t c, const PhotonHit& h) {
+  // Photons serve camera paths of at least one segment (path_length.h).
+  int photonSegments = settings_.maxDepth - 1;
+  if (!positions.empty() && photonSegments >= 2)
+    stats.rays += tracePhotons(scene, hashValues(prototype.seed(), 0x5995eedULL), pass, M, photonSegments, [&](size_t c, const PhotonHit& h) {
       if (h.bounces == 0) return;  // direct light comes from NEE
+      int segments = h.bounces + 1;
+      // Shading normals: the photon's flux is per unit geometric area, reflected
+      // radiance takes the shading cosine (see PhotonMap::radiance).
+      float cosG = absDot(h.wi, h.si->ng);
+      if (cosG == 0) return;
       thread_local std::vector<std::pair<size_t, float>> found;
       found.clear();
       if (grid) {
@@ -126,9 +134,10 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
         uint32_t pixel = pixelOf[k];
         float R = pixels_[pixel].R;
         const VisiblePoint& vp = vps[pixel];
-        if (d2 > R * R || glm::dot(vp.si.ng, h.si->ng) < 0.5f) continue;  // outside its radius, or another surface
+        // Outside its radius, on another surface, or a path longer than max_depth.
+        if (d2 > R * R || glm::dot(vp.si.ng, h.si->ng) < 0.5f || vp.segments + segments > settings_.maxDepth) continue;
         Color f = BSDF(vp.si).eval(vp.si.wo, h.wi, TransportMode::Radiance).f;
-        Color flux = vp.beta * f * h.beta;
+        Color flux = vp.beta * f * h.beta * (absDot(h.wi, vp.si.shading.n) / cosG);
         if (!isBlack(flux)) deposits[c].push_back({pixel, flux});
       }
     });

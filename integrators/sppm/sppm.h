@@ -5,7 +5,9 @@
 //     direct light by NEE;
 //  2. a photon pass traces photons_per_pass photons; every photon landing
 //     (after its first bounce: direct light is NEE's) within a visible point's
-//     radius R adds β·f·Φ to that pixel's flux;
+//     radius R adds β·f·Φ·|ω·n_s|/|ω·n_g| to that pixel's flux (shading
+//     normals: photon_map.h), if the joined path is at most max_depth
+//     segments (path_length.h);
 //  3. per pixel, with M new photons and flux Φ:
 //        N' = N + αM,  R' = R·sqrt((N + αM)/(N + M)),  τ' = (τ + Φ)·R'²/R²,
 //     and the photon term of the pixel is τ / (N_emitted π R²).
@@ -16,7 +18,7 @@
 //   alpha             0.7     fraction of new photons kept (0, 1)
 //   initial_radius    0       world units; 0: relative_radius × the scene's bounding radius
 //   relative_radius   0.02
-//   max_depth         32      segments of camera specular chains and photon paths
+//   max_depth         32      total path length in segments, camera to light (path_length.h)
 //   lookup            grid    grid | flann: how photons find the visible points
 //
 // Lookup: `grid` hashes each visible point into every cell its radius ball

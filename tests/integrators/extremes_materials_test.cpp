@@ -29,16 +29,24 @@ void expectFinite(const SceneFile& sf, const IntegratorUnderTest& it, const std:
 
 // GGX roughness 1e-3 (the smallest the rough models take; below it the smooth
 // models are used, so 1e-4 is the smooth result by construction) converges to
-// the smooth mirror and glass. Photon mapping and SPPM gather on glossy
-// surfaces however smooth, and light tracing cannot see delta reflections:
-// those three are documented to differ; their deviation is printed.
+// the smooth mirror and glass. Light tracing cannot see delta reflections: it
+// is documented to differ and its deviation is printed. SPPM makes its visible
+// point on the first non-delta surface, however smooth, and there estimates
+// the light through a lobe ~1e-3 wide by density estimation: on the rough
+// glass sphere (region 3) it misses most of it (−33 % measured); the other
+// three regions must agree. Photon mapping's final gather samples the lobe.
 TEST_P(ExtremeMaterials, NearDeltaRoughnessConvergesToSmooth) {
   const IntegratorUnderTest& it = GetParam();
   SeedMeans rough = seedMeans(loadShippedScene("extremes/near-delta-1e-3", 16, 16), it, 4, 2, 2, 400);
   SeedMeans smooth = seedMeans(loadShippedScene("cornell-box-spheres", 16, 16), it, 4, 2, 2, 500);
   EXPECT_EQ(rough.nonFinite + smooth.nonFinite, 0u);
+  if (it.name == "sppm")  // regions 0–2 only (3 regions × 3 channels)
+    for (SeedMeans* m : {&rough, &smooth}) {
+      m->regions.mean.resize(9);
+      m->regions.varianceOfMean.resize(9);
+    }
   std::string failures = compareSeedMeans(rough, smooth, Alpha, 12);
-  if (it.name == "photon" || it.name == "sppm" || it.name == "light")
+  if (it.name == "light")
     std::cerr << it.name << ": roughness 1e-3 vs smooth, documented difference:" << (failures.empty() ? " none" : failures) << "\n";
   else
     EXPECT_TRUE(failures.empty()) << failures;
@@ -90,31 +98,21 @@ TEST(ExtremeMaterialsAgreement, BdptMatchesPathOnHardScenes) {
   }
 }
 
-// Path length 0 renders black (or is refused where an integrator needs a
-// segment: photon, sppm); length 1 shows only the emitters the camera sees.
-// Photon mapping and SPPM are the documented exception: their max_depth
-// bounds the camera's specular chain and the photon paths separately, not the
-// total length, so at 1 they still add direct and photon light.
+// Path length 0 renders black; length 1 shows only the emitters the camera
+// sees (max_depth is the total length for every integrator: path_length.h).
 TEST_P(ExtremeMaterials, DepthZeroAndOne) {
   const IntegratorUnderTest& it = GetParam();
   SceneFile sf = loadShippedScene("cornell-box", 16, 16);
-  if (it.name == "photon" || it.name == "sppm") {
-    EXPECT_THROW(renderWith(sf, it, 1, "{max_depth: 0}"), ConfigError);
-  } else {
-    Rendered r = renderWith(sf, it, 1, "{max_depth: 0}");
-    for (const Color& c : r.film->image().pixels) ASSERT_TRUE(isBlack(c)) << it.name;
-  }
+  Rendered r = renderWith(sf, it, 1, "{max_depth: 0}");
+  for (const Color& c : r.film->image().pixels) ASSERT_TRUE(isBlack(c)) << it.name;
   SeedMeans one = seedMeans(sf, it, 4, 2, 2, 1000, "{max_depth: 1}");
   SeedMeans pt = seedMeans(sf, fast("path"), 4, 2, 2, 1100, "{max_depth: 1}");
   EXPECT_EQ(one.nonFinite + pt.nonFinite, 0u);
   std::string failures = compareSeedMeans(one, pt, Alpha, 12);
-  if (it.name == "photon" || it.name == "sppm")
-    std::cerr << it.name << ": max_depth 1, documented difference (not a total length):" << failures << "\n";
-  else
-    EXPECT_TRUE(failures.empty()) << failures;
+  EXPECT_TRUE(failures.empty()) << failures;
 }
 
-// One sample per pixel, one photon, k = 1: valid, finite, however noisy.
+// One sample per pixel, one photon, k = 2: valid, finite, however noisy.
 TEST_P(ExtremeMaterials, MinimalBudgetsStayFinite) {
   const IntegratorUnderTest& it = GetParam();
   SceneFile sf = loadShippedScene("cornell-box-spheres", 16, 16);
@@ -122,13 +120,14 @@ TEST_P(ExtremeMaterials, MinimalBudgetsStayFinite) {
   EXPECT_EQ(r.report.nonFinite, 0u);
   if (it.name == "photon") {
     expectFinite(sf, it, "{global_photons: 1, caustic_photons: 1}");
-    expectFinite(sf, it, "{k: 1}");
+    expectFinite(sf, it, "{k: 2}");  // the smallest k (the k-th photon only sets the radius)
+    EXPECT_THROW(renderWith(sf, it, 3, "{k: 1}"), ConfigError);
     expectFinite(sf, it, "{global_photons: 0, caustic_photons: 0}");
   }
   if (it.name == "sppm") expectFinite(sf, it, "{photons_per_pass: 1}");
   if (it.name == "irradiance_cache") {  // its photon base too
     expectFinite(sf, it, "{base: photon, global_photons: 1, caustic_photons: 1}");
-    expectFinite(sf, it, "{base: photon, k: 1, global_photons: 20000, caustic_photons: 20000}");
+    expectFinite(sf, it, "{base: photon, k: 2, global_photons: 20000, caustic_photons: 20000}");
   }
 }
 

@@ -88,7 +88,9 @@ TEST(PhotonMap, IrradianceUnderAPointLightMatchesTheAnalyticValue) {
     DensityQuery q;
     q.k = found.size() + 10, q.maxRadius = r, q.filter = PhotonFilter::Box;
     std::vector<std::pair<size_t, float>> scratch;
-    double viaMap = map.radiance(Vec3(0.f), Vec3(0, 1, 0), q, [](const Vec3&) { return Color(1.f); }, scratch).r;
+    SurfaceInteraction below;
+    below.p = Vec3(0.f), below.ng = Vec3(0, 1, 0), below.shading = Frame(below.ng);
+    double viaMap = map.radiance(below, q, 1, [](const Vec3&) { return Color(1.f); }, scratch).r;
     EXPECT_NEAR(viaMap, estimate, 1e-5 * estimate);
 
     // The bias grows with the radius: on a disc of radius h/2 it is 15 % of E
