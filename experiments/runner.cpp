@@ -24,7 +24,7 @@ namespace lb {
 
 const char* const LogColumns[] = {"scene", "label", "integrator", "repeat", "seed", "time_s", "preprocess_s", "spp",
                                   "rmse", "relmse", "mape", "variance", "nonfinite", "rmse_crop", "relmse_crop",
-                                  "mape_crop", "final", nullptr};
+                                  "mape_crop", "over_budget_s", "final", nullptr};
 
 namespace {
 
@@ -240,6 +240,10 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     ro.budget = e.budget;
     ro.setupSeconds = scene.buildSeconds();  // the BVH, built once per scene, is owed to every run
     size_t nextPoint = 0;
+    // Seconds beyond a time budget: every integrator renders at least one
+    // pass, so a preprocess longer than the budget overruns it (empty
+    // without a time budget).
+    auto overBudget = [&](double seconds) { return timeBudget ? fmt(std::max(0.0, seconds - e.budget.seconds)) : ""; };
     auto record = [&](uint64_t passes, double seconds, double preprocess, bool final) {
       Image img = film.image();
       ErrorMetrics m = computeMetrics(img, ref, e.metricSettings);
@@ -248,16 +252,19 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                  fmt(preprocess), std::to_string(passes), fmt(m.rmse), fmt(m.relMse), fmt(m.mape),
                  fmt(film.meanVarianceOfMean()), std::to_string(film.nonFiniteCount()),
                  es.crop.empty() ? "" : fmt(mc.rmse), es.crop.empty() ? "" : fmt(mc.relMse),
-                 es.crop.empty() ? "" : fmt(mc.mape), final ? "1" : "0"});
+                 es.crop.empty() ? "" : fmt(mc.mape), overBudget(seconds), final ? "1" : "0"});
       std::lock_guard<std::mutex> lock(progressMutex);
       double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
       // Per run: the time budget, or (sample budgets) the mean of finished runs.
       double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
       double eta = perRun > 0 ? perRun * double(tasks.size() - done) / jobs - (final ? 0 : seconds) : 0;
-      std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s  (elapsed %s%s)\n",
+      std::string over = timeBudget && seconds > e.budget.seconds
+                             ? " OVER BUDGET by " + fmt(seconds - e.budget.seconds) + "s"
+                             : "";
+      std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s%s  (elapsed %s%s)\n",
                    done.load() + 1, tasks.size(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1,
                    final ? points.size() : nextPoint, points.size(), seconds, (unsigned long long)passes, m.rmse,
-                   final ? " final" : "", formatDuration(elapsed).c_str(),
+                   final ? " final" : "", over.c_str(), formatDuration(elapsed).c_str(),
                    eta > 0 ? (", ETA " + formatDuration(eta)).c_str() : "");
     };
     auto afterPass = [&](const PassProgress& p) {

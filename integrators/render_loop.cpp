@@ -26,6 +26,16 @@ void enableFlushToZeroOnAllThreads() {
   enableFlushToZero();
 }
 
+std::string overBudgetMessage(const RenderReport& r) {
+  if (!r.overBudget()) return "";
+  char buf[200];
+  int n = std::snprintf(buf, sizeof buf, "time budget %g s exceeded by %.3g s", r.budgetSeconds, r.overBudgetSeconds());
+  if (r.preprocessSeconds >= r.budgetSeconds)
+    std::snprintf(buf + n, sizeof buf - size_t(n), " (preprocess alone took %.3g s; at least one pass is always rendered)",
+                  r.preprocessSeconds);
+  return buf;
+}
+
 RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, const SamplerSettings& samplerSettings,
                         const RenderOptions& options, const std::function<void(const PassProgress&)>& afterPass) {
   using Clock = std::chrono::steady_clock;
@@ -46,7 +56,8 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   PassStats stats;
   for (uint64_t pass = 0;; ++pass) {
     if (budget.spp > 0 && pass >= budget.spp) break;
-    if (budget.seconds > 0 && pass == 0 && elapsed() >= budget.seconds) break;  // preprocessing used it all
+    // No time check before pass 0: even when preprocessing used the whole
+    // budget, one pass is rendered (and the overrun reported), never 0 spp.
     if (budget.seconds > 0 && pass > 0) {
       double perPass = (elapsed() - report.preprocessSeconds) / double(pass);
       if (elapsed() + perPass > budget.seconds) break;
@@ -74,6 +85,7 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   }
   if (tty) std::fprintf(stderr, "\n");
   report.seconds = elapsed();
+  report.budgetSeconds = budget.seconds;
   report.rays = stats.rays.load();
   report.nonFinite = film.nonFiniteCount();
   return report;

@@ -3,7 +3,12 @@
 // A time budget stops before a pass that is predicted to overshoot it (the
 // prediction is the mean duration of the passes so far), so equal-time
 // comparisons stay honest; preprocessing counts inside the budget.
+// At least one pass is always rendered, even when the preprocess alone used
+// up the time budget: a black image with 0 spp would be scored as a result.
+// The report then says by how much the budget was exceeded, and every caller
+// (the summary line, the experiment log) must show it.
 #include <functional>
+#include <string>
 #include "integrators/integrator.h"
 
 namespace lb {
@@ -28,7 +33,16 @@ struct RenderReport {
   double seconds = 0;            // preprocess + passes
   double preprocessSeconds = 0;
   uint64_t nonFinite = 0;
+  double budgetSeconds = 0;      // the time budget it ran under (0: none)
+
+  // Wall time beyond the time budget (0 without one, or within it).
+  double overBudgetSeconds() const { return budgetSeconds > 0 ? std::max(0.0, seconds - budgetSeconds) : 0.0; }
+  bool overBudget() const { return overBudgetSeconds() > 0; }
 };
+
+// "time budget 2 s exceeded by 7.6 s (preprocess alone took 9.1 s; at least one
+// pass is always rendered)", or "" within the budget.
+std::string overBudgetMessage(const RenderReport& report);
 
 struct PassProgress {
   uint64_t passes;

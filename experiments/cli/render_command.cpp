@@ -58,6 +58,10 @@ void printSummary(const RenderReport& rep, const Film& film) {
   std::cerr << "done: " << rep.seconds << " s (preprocess " << rep.preprocessSeconds << " s), " << rep.passes
             << " spp, " << double(rep.rays) / std::max(rep.seconds - rep.preprocessSeconds, 1e-9) * 1e-6
             << " Mrays/s, NaN/Inf samples: " << rep.nonFinite << "\n";
+  // A budget shorter than the preprocess still renders one pass: say so, or
+  // an equal-time comparison would silently be unequal.
+  std::string over = overBudgetMessage(rep);
+  if (!over.empty()) std::cerr << "warning: " << over << "\n";
   for (const auto& s : film.firstNonFinite())
     std::cerr << "  non-finite sample: --pixel " << s.x << "," << s.y << " --sample " << s.sampleIndex << "\n";
 }
@@ -122,6 +126,7 @@ int render(const RenderArgs& args) {
   resolved["spp"] = rep.passes;
   resolved["threads"] = args.threads;
   resolved["seconds"] = rep.seconds;
+  if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
   resolved["non_finite_samples"] = rep.nonFinite;
   YAML::Emitter emitter;
   emitter << resolved;

@@ -2,9 +2,11 @@
 // 2, and no output file. These run the real `lightbench` binary.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include "core/image.h"
 
 namespace {
 
@@ -29,9 +31,9 @@ class BadInput : public ::testing::Test {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();
   }
-  RunResult render(const std::string& scene, const std::string& extra = "") {
+  RunResult render(const std::string& scene, const std::string& extra = "", const std::string& budget = "--spp 1") {
     std::string errFile = (dir_ / "stderr.txt").string();
-    std::string cmd = std::string(LIGHTBENCH_BINARY) + " render " + scene + " --spp 1 -q -o " +
+    std::string cmd = std::string(LIGHTBENCH_BINARY) + " render " + scene + " " + budget + " -q -o " +
                       (dir_ / "out" / "image.exr").string() + " " + extra + " 2>" + errFile;
     fs::create_directories(dir_ / "out");
     int status = std::system(cmd.c_str());
@@ -69,6 +71,86 @@ TEST_F(BadInput, ValidSceneRendersAndWritesAllFiles) {
   RunResult r = render(f);
   EXPECT_EQ(r.exitCode, 0) << r.err;
   for (const char* out : {"image.exr", "image.png", "image.config.yaml"}) EXPECT_TRUE(fs::exists(dir_ / "out" / out)) << out;
+}
+
+// A time budget shorter than the preprocess (issue 11, item 8) is not an
+// error, but it must not pass silently either: one pass is rendered (never a
+// black 0-spp image), the exit code is 0, and the summary says by how much the
+// budget was exceeded. 1 ns is shorter than any preprocess and any pass.
+TEST_F(BadInput, BudgetShorterThanThePreprocessRendersOnePassAndSaysSo) {
+  std::string f = write("ok.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
+  RunResult r = render(f, "--integrator irradiance_cache", "--time 1e-9");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: time budget 1e-09 s exceeded by"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("preprocess alone took"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" 1 spp"), std::string::npos) << r.err;
+  std::stringstream config;
+  config << std::ifstream(dir_ / "out" / "image.config.yaml").rdbuf();
+  EXPECT_NE(config.str().find("spp: 1\n"), std::string::npos) << config.str();
+  EXPECT_NE(config.str().find("over_budget_seconds:"), std::string::npos) << config.str();
+  lb::Image img = lb::readExr((dir_ / "out" / "image.exr").string());
+  double sum = 0;
+  for (const auto& c : img.pixels) sum += c.r + c.g + c.b;
+  EXPECT_GT(sum, 0) << "black image";
+}
+
+// Without a time budget nothing is said about one.
+TEST_F(BadInput, NoTimeBudgetNoOverrunReported) {
+  std::string f = write("ok.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
+  RunResult r = render(f, "--integrator irradiance_cache");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.find("exceeded"), std::string::npos) << r.err;
+}
+
+// The experiment log says it too: every run of an experiment whose 1 ns
+// budget is shorter than anything renders one pass, and its rows carry the
+// overrun in over_budget_s.
+TEST_F(BadInput, ExperimentLogRecordsTheOverrun) {
+  write("scene.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
+  std::string exp = write("exp.yaml",
+                          "scenes:\n"
+                          "  - {scene: scene.yaml, reference: {integrator: path, spp: 4}}\n"
+                          "configurations:\n"
+                          "  - {label: cache, integrator: irradiance_cache}\n"
+                          "  - {label: photon, integrator: photon, params: {global_photons: 2000, caustic_photons: 0}}\n"
+                          "budget: {seconds: 1e-9}\n"
+                          "snapshots: {count: 1}\n"
+                          "repeats: 1\n");
+  std::string cmd = std::string(LIGHTBENCH_BINARY) + " run " + exp + " --no-report --results " +
+                    (dir_ / "results").string() + " 2>" + (dir_ / "run.txt").string();
+  int status = std::system(cmd.c_str());
+  std::stringstream err;
+  err << std::ifstream(dir_ / "run.txt").rdbuf();
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << err.str();
+  EXPECT_NE(err.str().find("OVER BUDGET by"), std::string::npos) << err.str();
+  fs::path log;
+  for (const auto& d : fs::recursive_directory_iterator(dir_ / "results"))
+    if (d.path().filename() == "log.csv") log = d.path();
+  std::ifstream in(log);
+  std::string header, line;
+  std::getline(in, header);
+  auto fields = [](const std::string& l) {
+    std::vector<std::string> f;
+    std::stringstream ss(l);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    return f;
+  };
+  std::vector<std::string> names = fields(header);
+  auto column = [&](const std::string& n) { return size_t(std::find(names.begin(), names.end(), n) - names.begin()); };
+  ASSERT_LT(column("over_budget_s"), names.size()) << header;
+  int finals = 0;
+  while (std::getline(in, line)) {
+    std::vector<std::string> f = fields(line);
+    ASSERT_EQ(f.size(), names.size()) << line;
+    if (f[column("final")] != "1") continue;
+    ++finals;
+    EXPECT_EQ(f[column("spp")], "1") << line;
+    EXPECT_GT(std::stod(f[column("over_budget_s")]), 0) << line;
+    // Both columns are printed with 9 significant digits.
+    double t = std::stod(f[column("time_s")]);
+    EXPECT_NEAR(std::stod(f[column("over_budget_s")]), t - 1e-9, 1e-8 * t) << line;
+  }
+  EXPECT_EQ(finals, 2);
 }
 
 TEST_F(BadInput, MalformedYaml) {
