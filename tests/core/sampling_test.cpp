@@ -9,7 +9,7 @@ namespace lb::test {
 namespace {
 
 constexpr double Alpha = 0.01;
-constexpr int WarpTests = 4;  // Bonferroni count for this file's χ² tests
+constexpr int WarpTests = 5;  // Bonferroni count for this file's χ² tests
 
 TEST(Warps, CosineHemisphereMatchesPdf) {
   SphereHistogramTest t;
@@ -41,6 +41,15 @@ TEST(Warps, UniformHemisphereMatchesPdf) {
   EXPECT_TRUE(r.passed(Alpha / WarpTests)) << r.message << " p=" << r.pValue;
 }
 
+// Shirley–Chiu's concentric map is uniform on the unit disc (pdf 1/π): r² and
+// φ must both be uniform, which equal-area polar cells test directly.
+TEST(Warps, ConcentricDiskMatchesPdf) {
+  DiskHistogramTest t;
+  auto r = t.run([](Vec2 u) { return std::optional<Vec2>(sampleConcentricDisk(u)); },
+                 [](Vec2 p) { return glm::dot(p, p) < 1 ? double(InvPi) : 0.0; }, 6);
+  EXPECT_TRUE(r.passed(Alpha / WarpTests)) << r.message << " p=" << r.pValue << " chi2=" << r.statistic;
+}
+
 TEST(Statistics, ChiSquareRejectsAWrongPdf) {
   // The harness must be able to fail: cosine samples against a uniform pdf.
   SphereHistogramTest t;
@@ -48,6 +57,22 @@ TEST(Statistics, ChiSquareRejectsAWrongPdf) {
   auto r = t.run([](Vec2 u, float) { return std::optional<Vec3>(sampleCosineHemisphere(u)); },
                  [](const Vec3& w) { return w.z >= 0 ? double(uniformHemispherePdf()) : 0.0; }, 5);
   EXPECT_FALSE(r.passed(Alpha));
+}
+
+// Low-expectation cells are pooled, and a pool still below 5 is merged into
+// the smallest cell that passed (Nori), never dropped: 40 samples where 3 are
+// expected must fail however well the big cells fit.
+TEST(Statistics, ChiSquareMergesASmallPoolIntoItsNeighbour) {
+  std::vector<double> expected = {1, 1, 1, 50, 60, 70, 80}, observed = {40, 0, 0, 50, 60, 70, 80};
+  Chi2Result r = chi2Test(observed, expected);
+  // Pool {1, 1, 1} (3 < 5) absorbs the 50 cell: observed 90 vs expected 53.
+  EXPECT_NEAR(r.statistic, 37.0 * 37.0 / 53.0, 1e-9);
+  EXPECT_EQ(r.dof, 3);  // cells: pool, 60, 70, 80
+  EXPECT_FALSE(r.passed(Alpha));
+  // A pool that reaches 5 on its own stays a cell of its own.
+  r = chi2Test({3, 3, 50, 60}, {2.5, 2.5, 50, 60});
+  EXPECT_NEAR(r.statistic, 1.0 * 1.0 / 5.0, 1e-12);
+  EXPECT_EQ(r.dof, 2);
 }
 
 TEST(Statistics, GammaQMatchesKnownValues) {

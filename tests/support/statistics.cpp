@@ -1,4 +1,5 @@
 #include "tests/support/statistics.h"
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include "core/frame.h"
@@ -85,30 +86,39 @@ double normalCritical(double alpha) {
   return 0.5 * (lo + hi);
 }
 
+// Pooling as in Nori's chi2test: cells sorted by expected count; the low ones
+// are pooled, and the pool keeps absorbing the next cells in that order until
+// its expected count reaches minExpected. So a pool that is still too small
+// after the last low cell is merged into the neighbour with the smallest
+// expected count that passed, never dropped: samples piling up where the pdf
+// says almost nothing should go still count against the sampler.
 Chi2Result chi2Test(const std::vector<double>& observed, const std::vector<double>& expected, double minExpected) {
   Chi2Result r;
+  std::vector<size_t> order(observed.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return expected[a] < expected[b]; });
   double pooledObs = 0, pooledExp = 0;
   int cells = 0;
-  for (size_t i = 0; i < observed.size(); ++i) {
-    if (expected[i] <= 0 && observed[i] > 0) {
-      std::ostringstream s;
-      s << "cell " << i << " has " << observed[i] << " samples but zero expected count";
-      r.message = s.str();
-      return r;
+  for (size_t i : order) {
+    if (expected[i] <= 0) {
+      if (observed[i] > 0) {
+        std::ostringstream s;
+        s << "cell " << i << " has " << observed[i] << " samples but zero expected count";
+        r.message = s.str();
+        return r;
+      }
+      continue;  // nothing expected, nothing seen: not a cell of the test
     }
-    if (expected[i] < minExpected) {
+    if (expected[i] < minExpected || (pooledExp > 0 && pooledExp < minExpected)) {
       pooledObs += observed[i], pooledExp += expected[i];
       continue;
     }
     r.statistic += (observed[i] - expected[i]) * (observed[i] - expected[i]) / expected[i];
     ++cells;
   }
-  if (pooledExp >= minExpected) {
+  if (pooledExp > 0) {
     r.statistic += (pooledObs - pooledExp) * (pooledObs - pooledExp) / pooledExp;
     ++cells;
-  } else if (pooledObs > 0 && pooledExp > 0) {
-    // Too little mass to test on its own: fold it into the statistic's
-    // degrees of freedom conservatively by ignoring it (Nori does the same).
   }
   r.dof = cells - 1;
   if (r.dof <= 0) {
@@ -141,7 +151,55 @@ double adaptive(const F& f, double z0, double z1, double p0, double p1, int dept
   return adaptive(f, z0, zm, p0, pm, depth - 1, minDepth - 1) + adaptive(f, zm, z1, p0, pm, depth - 1, minDepth - 1) +
          adaptive(f, z0, zm, pm, p1, depth - 1, minDepth - 1) + adaptive(f, zm, z1, pm, p1, depth - 1, minDepth - 1);
 }
+// n×n Gauss–Legendre product rule (n = 4 or 8) over [z0,z1]×[p0,p1]: exact
+// for polynomials of degree 2n−1 in each variable, so smooth lobes converge
+// in a few refinements where a midpoint rule would need thousands of cells.
+template <typename F>
+glm::dvec3 gauss3(const F& f, double z0, double z1, double p0, double p1, int n) {
+  static const double x4[] = {0.3399810435848563, 0.8611363115940526}, w4[] = {0.6521451548625461, 0.3478548451374538};
+  static const double x8[] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363},
+                      w8[] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  const double *x = n == 4 ? x4 : x8, *w = n == 4 ? w4 : w8;
+  double cz = 0.5 * (z0 + z1), hz = 0.5 * (z1 - z0), cp = 0.5 * (p0 + p1), hp = 0.5 * (p1 - p0);
+  glm::dvec3 sum(0.0);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      double za = cz + (a % 2 ? 1 : -1) * hz * x[a / 2], pb = cp + (b % 2 ? 1 : -1) * hp * x[b / 2];
+      sum += w[a / 2] * w[b / 2] * f(za, pb);
+    }
+  return sum * hz * hp;
+}
+template <typename F>
+void adaptiveAbs(const F& f, double z0, double z1, double p0, double p1, double tolerance, int depth,
+                 SphereIntegral& out) {
+  glm::dvec3 coarse = gauss3(f, z0, z1, p0, p1, 4), fine = gauss3(f, z0, z1, p0, p1, 8);
+  glm::dvec3 diff = glm::abs(fine - coarse);
+  if (depth == 0 || std::max(diff.x, std::max(diff.y, diff.z)) <= tolerance) {
+    out.value += fine, out.error += diff;
+    return;
+  }
+  double zm = 0.5 * (z0 + z1), pm = 0.5 * (p0 + p1);
+  for (auto [a0, a1] : {std::pair{z0, zm}, std::pair{zm, z1}})
+    for (auto [b0, b1] : {std::pair{p0, pm}, std::pair{pm, p1}}) adaptiveAbs(f, a0, a1, b0, b1, tolerance / 4, depth - 1, out);
+}
 }  // namespace
+
+SphereIntegral integrateSphere(const std::function<glm::dvec3(const Vec3&)>& fn, double absTolerance, int thetaCells,
+                               int phiCells, const Frame& frame, int maxDepth) {
+  auto f = [&](double theta, double phi) {
+    double z = std::cos(theta), r = std::sin(theta);
+    glm::dvec3 local(r * std::cos(phi), r * std::sin(phi), z);
+    glm::dvec3 world = glm::dvec3(frame.s) * local.x + glm::dvec3(frame.t) * local.y + glm::dvec3(frame.n) * local.z;
+    return r * fn(Vec3(world));
+  };
+  SphereIntegral out;
+  double cellTolerance = absTolerance / (thetaCells * phiCells);
+  for (int ti = 0; ti < thetaCells; ++ti)
+    for (int pi = 0; pi < phiCells; ++pi)
+      adaptiveAbs(f, M_PI * ti / thetaCells, M_PI * (ti + 1) / thetaCells, 2 * M_PI * pi / phiCells,
+                  2 * M_PI * (pi + 1) / phiCells, cellTolerance, maxDepth, out);
+  return out;
+}
 
 // Cells are uniform in θ ∈ [0, θmax] and φ; θ is computed in double from the
 // direction's components so that narrow caps (distant lights) keep their
@@ -216,6 +274,41 @@ Chi2Result SphereHistogramTest::compare(const std::vector<double>& observed, std
 
 Chi2Result SphereHistogramTest::run(const SampleFn& sample, const PdfFn& pdf, uint64_t seed) const {
   return compare(observedCounts(sample, seed), expectedCounts(pdf), pdf);
+}
+
+Chi2Result DiskHistogramTest::run(const SampleFn& sample, const PdfFn& pdf, uint64_t seed) const {
+  int cells = radialCells * phiCells;
+  std::vector<double> observed(size_t(cells) + 1, 0), expected(size_t(cells) + 1, 0);
+  Pcg32 rng(seed, 11);
+  for (size_t i = 0; i < samples; ++i) {
+    auto p = sample(rng.next2D());
+    glm::dvec2 d = p ? glm::dvec2(*p) : glm::dvec2(2.0);
+    double r2 = glm::dot(d, d);
+    if (!(r2 < 1)) {
+      observed[size_t(cells)] += 1;
+      continue;
+    }
+    double phi = std::atan2(d.y, d.x);
+    if (phi < 0) phi += 2 * M_PI;
+    int ri = std::min(radialCells - 1, int(r2 * radialCells)), pi = std::min(phiCells - 1, int(phi / (2 * M_PI) * phiCells));
+    observed[size_t(ri * phiCells + pi)] += 1;
+  }
+  // dA = ½ d(r²) dφ; a 16×16 midpoint rule per cell (exact for constant pdfs).
+  double total = 0;
+  for (int ri = 0; ri < radialCells; ++ri)
+    for (int pi = 0; pi < phiCells; ++pi) {
+      double s0 = double(ri) / radialCells, hs = 1.0 / radialCells / 16;
+      double p0 = 2 * M_PI * pi / phiCells, hp = 2 * M_PI / phiCells / 16, mass = 0;
+      for (int a = 0; a < 16; ++a)
+        for (int b = 0; b < 16; ++b) {
+          double r = std::sqrt(s0 + (a + 0.5) * hs), phi = p0 + (b + 0.5) * hp;
+          mass += pdf(Vec2(float(r * std::cos(phi)), float(r * std::sin(phi)))) * 0.5 * hs * hp;
+        }
+      expected[size_t(ri * phiCells + pi)] = mass * double(samples);
+      total += mass;
+    }
+  expected[size_t(cells)] = std::max(0.0, 1 - total) * double(samples);
+  return chi2Test(observed, expected);
 }
 
 }  // namespace lb::test

@@ -27,8 +27,9 @@ struct Chi2Result {
   bool passed(double alpha) const { return message.empty() && pValue >= alpha; }
 };
 
-// Pearson's χ² test; cells with expected count < minExpected are pooled.
-// A sample in a cell of zero expected count fails outright.
+// Pearson's χ² test; cells with expected count < minExpected are pooled, and
+// a pool still below minExpected is merged into the smallest cell that passed
+// (Nori's chi2test). A sample in a cell of zero expected count fails outright.
 Chi2Result chi2Test(const std::vector<double>& observed, const std::vector<double>& expected, double minExpected = 5);
 
 // Histogram of directions over the sphere in (θ, φ) cells, and the expected counts from integrating `pdf` over each cell
@@ -56,6 +57,31 @@ struct SphereHistogramTest {
   double thetaMax() const;
   double cellIntegral(const PdfFn& pdf, int cell, int depth, int minDepth = 2) const;
 };
+
+// Points in the unit disc, histogrammed in equal-area polar cells (r² and φ
+// uniform), against `pdf` (a density per unit area of the disc) integrated
+// over each cell. Points outside the disc, or failed samples, fall in one
+// extra cell whose expected mass is 1 − ∫_disc pdf.
+struct DiskHistogramTest {
+  int radialCells = 16, phiCells = 32;
+  size_t samples = 300000;
+  using SampleFn = std::function<std::optional<Vec2>(Vec2 u)>;
+  using PdfFn = std::function<double(Vec2)>;
+  Chi2Result run(const SampleFn& sample, const PdfFn& pdf, uint64_t seed) const;
+};
+
+// ∫ f dω over the whole sphere for up to three channels at once (e.g. RGB),
+// by adaptive Gauss–Legendre product rules on θ×φ cells around frame.n: a
+// cell is split until its 4×4 and 8×8 rules differ by less than its share (by
+// parameter area) of `absTolerance` in every channel. `error` sums those
+// differences over the final cells: an estimate of the coarser rule's error,
+// so an over-estimate of the finer one's (which is summed) once the starting
+// cells resolve the integrand's features.
+struct SphereIntegral {
+  glm::dvec3 value{0.0}, error{0.0};
+};
+SphereIntegral integrateSphere(const std::function<glm::dvec3(const Vec3&)>& f, double absTolerance,
+                               int thetaCells = 16, int phiCells = 32, const Frame& frame = Frame(), int maxDepth = 7);
 
 // z statistic for the difference of two means with known standard errors.
 inline double zScore(double meanA, double varMeanA, double meanB, double varMeanB) {
