@@ -145,9 +145,15 @@ void Shape::fillInteraction(const Ray& ray, float t, int prim, float u, float v,
   const auto& tri = mesh_.triangles[prim];
   const Vec3 &a = mesh_.positions[tri.x], &b = mesh_.positions[tri.y], &c = mesh_.positions[tri.z];
   float b0 = 1 - u - v;
-  // Barycentric interpolation error bound, pbrt-v4 §6.8.5 (Eq. 6.33).
+  // Barycentric interpolation error bound, pbrt-v4 §6.8.5 (Eq. 6.33). That
+  // bound is per component, for pbrt's own intersection test; Embree's test
+  // works in a ray-centred frame whose rounding mixes all three components,
+  // so the bound is widened to the largest one in every direction. Without
+  // this a face lying exactly on a coordinate plane (a box's top at y = 0)
+  // has a zero bound across it, its rays start on the plane and re-hit it,
+  // and every shadow ray is blocked: the face rendered black.
   si.p = b0 * a + u * b + v * c;
-  si.pError = gamma(7) * (glm::abs(b0 * a) + glm::abs(u * b) + glm::abs(v * c));
+  si.pError = Vec3(maxComponent(gamma(7) * (glm::abs(b0 * a) + glm::abs(u * b) + glm::abs(v * c))));
   si.ng = glm::normalize(glm::cross(b - a, c - a));
   Vec3 ns = si.ng;
   if (!mesh_.normals.empty()) {

@@ -1,11 +1,12 @@
 // Geometry at the extremes (issue 7): rays aimed exactly at the shared edges
 // and vertices of a closed mesh never leak through it, rays starting exactly
 // on an edge or a vertex do not hit their own surface, and zero-area triangles
-// are dropped with a warning.
+// are dropped with a warning; a face on a coordinate plane is lit.
 #include <gtest/gtest.h>
 #include <filesystem>
 #include <fstream>
 #include "core/scene_loader.h"
+#include "tests/support/render_helpers.h"
 
 namespace lb {
 namespace {
@@ -102,6 +103,21 @@ TEST(GeometryExtremes, ZeroAreaTrianglesAreSkippedWithAWarning) {
   SurfaceInteraction si;
   EXPECT_TRUE(sf.scene->intersect(Ray{Vec3(0.2f, 0.2f, 2), Vec3(0, 0, -1), Infinity}, si));  // the good one stays
   std::filesystem::remove_all(dir);
+}
+
+// A mesh face lying exactly on a coordinate plane: a slab whose top is at
+// y = 0 exactly (0.1·1 − 0.1 in float). Its vertices' y are all 0, so the
+// per-component barycentric error bound across the face was 0, rays started
+// on the plane and Embree found the face again: every shadow ray was
+// blocked and the lit floor rendered black (mean 0 against 0.301). It must
+// give the analytic point light over a plane.
+TEST(GeometryExtremes, AFaceOnACoordinatePlaneIsLit) {
+  std::string scene = test::PointLightPlaneScene;
+  std::string plane = "{type: rectangle, material: m, transform: {scale: 10, rotate_x: -90}}";
+  scene.replace(scene.find(plane), plane.size(), "{type: box, material: m, transform: {scale: [10, 0.1, 10], translate: [0, -0.1, 0]}}");
+  SceneFile sf = loadSceneFromString(scene, "slab.yaml");
+  auto film = test::renderScene(sf, {"path", "{max_depth: 2}", 64, 7});
+  EXPECT_TRUE(test::meanMatches(*film, test::pointLightOverPlane(sf.scene->camera, Vec3(0.3f, 2, 0.2f), 10, 0.5f), 0.01));
 }
 
 }  // namespace

@@ -97,16 +97,31 @@ TEST(Bdpt, MisWeightsSumToOneOnPathsFromAPointLight) {
 // They differ by an angle of about the offset over the segment length,
 // ε = γ(7)(|a| + |b|)/d (the error bound the offsets come from), which a
 // cosine-shaped density turns into a relative error of ε(1 + tanθ) at the
-// sampling vertex. The bound: relative 1e-3 (glossy lobes' slope times float
+// sampling vertex, and the area conversion's |cos θ_b| into ε·tanθ_b at the
+// receiving one (and, at a specular vertex, the incoming segment's error
+// moves its Fresnel probability). The bound: relative 1e-3 (glossy lobes' slope times float
 // rounding) plus 64 times that conditioning term.
 float tolerance(const std::vector<Vertex>& path, const bdpt::PdfMismatch& m) {
   int from = m.reverse ? m.vertex + 1 : m.vertex - 1;  // where the direction was sampled
   const Vertex &a = path[size_t(from)], &b = path[size_t(m.vertex)];
   float d = glm::length(b.p - a.p);
-  float eps = gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(b.p))) / std::max(d, 1e-30f);
-  float cos = a.type == bdpt::VertexType::Surface ? absDot(a.shadingNormal(), (b.p - a.p) / d) : 1.f;
-  float tan = std::sqrt(std::max(0.f, 1 - cos * cos)) / std::max(cos, 1e-6f);
-  return 1e-3f + 64 * eps * (1 + tan);
+  // The offset is |n|₁ ≤ √3 times the error bound, which for triangles is
+  // widened to its largest component in every direction (core/shape.cpp).
+  float eps = std::sqrt(3.f) * gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(b.p))) / std::max(d, 1e-30f);
+  auto tanAt = [&](float cos) { return std::sqrt(std::max(0.f, 1 - cos * cos)) / std::max(cos, 1e-6f); };
+  float tanA = a.type == bdpt::VertexType::Surface ? tanAt(absDot(a.shadingNormal(), (b.p - a.p) / d)) : 0.f;
+  float tanB = b.onSurface() ? tanAt(absDot(b.ng, (b.p - a.p) / d)) : 0.f;
+  float bound = 1e-3f + 64 * eps * (1 + tanA + tanB);
+  // A specular vertex's density is its Fresnel lobe probability, a function
+  // of the incoming direction: that segment's offset error counts too.
+  int before = m.reverse ? from + 1 : from - 1;
+  if (a.delta && before >= 0 && before < int(path.size())) {
+    const Vertex& p = path[size_t(before)];
+    float dIn = glm::length(a.p - p.p);
+    float epsIn = std::sqrt(3.f) * gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(p.p))) / std::max(dIn, 1e-30f);
+    bound += 64 * epsIn * (1 + tanAt(absDot(a.ng, (p.p - a.p) / dIn)));
+  }
+  return bound;
 }
 
 TEST(Bdpt, MisWeightsSumToOneUnderDirectionalAndEnvironmentLights) {
