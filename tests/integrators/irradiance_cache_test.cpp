@@ -2,6 +2,7 @@
 // thread-count independence, and its settings.
 #include <gtest/gtest.h>
 #include <cstring>
+#include <iostream>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include "core/scene_loader.h"
@@ -9,7 +10,7 @@
 #include <yaml-cpp/yaml.h>
 #include "integrators/irradiance_cache/irradiance_cache.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
-#include "tests/support/render_helpers.h"
+#include "tests/support/consistent_helpers.h"
 #include "tests/support/statistics.h"
 
 namespace lb {
@@ -163,6 +164,63 @@ TEST(IrradianceCacheSettings, RejectsNonPhysicalAndMisplacedKeys) {
   EXPECT_NO_THROW(read("{base: photon, k: 10, global_photons: 1000}"));
 }
 
+// The cache against the path tracer on the diffuse Cornell box, region
+// means over 16 seeds each (the seeds' spread includes each record's noise,
+// frozen into a blotch). The bias is interpolation's: records reach a·R
+// (R: the harmonic mean distance of its hemisphere rays) and blur irradiance
+// over that reach, most where it changes fastest (corners, contact shadows);
+// Ward's threshold a bounds the relative interpolation error to first order
+// in a. Stated allowance c × a of each region's mean, c = 0.05, measured by
+// the sweep below (DISABLED_DiffuseBoxBiasSweep: 16×16, 2×2 regions, 8
+// seeds, 16×48 strata, 4 spp; path tracer 8 × 1024 spp): at a = 0.8, 0.4,
+// 0.2, 0.1 the largest region deviation was 3.75, 1.92, 0.75, 1.90 % (noise
+// sd 1.4–2.0 %), the summed deviation 0.0149, 0.0068, 0.0043, 0.0062 (noise
+// sd 0.0025–0.0027): |d| / (mean × a) = 0.047 and 0.048 where the bias is
+// resolved (a = 0.8, 0.4), below a = 0.2 flat within the noise. In this
+// test (16 seeds): a = 0.8: largest 3.97 %, summed 0.0166 ± 0.0020; a = 0.2:
+// largest 2.12 % (noise sd 1.1 %), summed 0.0051 ± 0.0019. Broken on
+// purpose once: the cache's means × 1.05 fail at both a (e.g. a = 0.8,
+// region 0 red 0.196 vs 0.182, gap 0.0144 > 0.0122); the a = 0.2 level
+// × 0.97 (a bias that does not shrink) fails the shrink (summed 0.0166 →
+// 0.0244, noise 0.0090).
+// Not on the Cornell box with spheres (the test after this one): records
+// there see the light through the glass sphere by chance, and that frozen
+// noise gave region means a seed-to-seed sd of 9–14 % (8 seeds, 16×48
+// strata), too wide to resolve any bias.
+// The test runs a = 0.8 and 0.2: every region within the seeds' t-bound plus
+// c × a, and the summed deviation at 0.2 smaller than at 0.8 beyond the noise.
+constexpr double CacheCoefficient = 0.05;
+
+std::vector<BiasLevel> cacheLevels(const SceneFile& sf, const std::vector<bool>& mask, const std::vector<double>& as,
+                                   int seeds) {
+  std::vector<BiasLevel> levels;
+  uint64_t seed = 3000;
+  for (double a : as) {
+    std::string params = "{a: " + std::to_string(a) +
+                         ", spacing: world, min_spacing: 0.005, theta_strata: 16, phi_strata: 48, record_image: false}";
+    levels.push_back({a, maskedSeedMeans(sf, {"irradiance_cache", params, 4, seed}, seeds, 2, mask)});
+    seed += 100;
+  }
+  return levels;
+}
+
+TEST(IrradianceCacheCornell, BiasWithinItsAllowanceAndShrinkingWithA) {
+  SceneFile sf = loadShippedScene("cornell-box", 16, 16);
+  std::vector<bool> mask = noEmitterSeen(*sf.scene);
+  const int Seeds = 16;
+  SeedMeans pt = maskedSeedMeans(sf, {"path", "{}", 128, 3}, Seeds, 2, mask);
+  std::vector<BiasLevel> levels = cacheLevels(sf, mask, {0.8, 0.2}, Seeds);
+  expectBiasWithinAndShrinking("irradiance cache, diffuse Cornell box", levels, pt, CacheCoefficient, 1e-3,
+                               2 * 2 * 3 * int(levels.size()));
+}
+
+TEST(IrradianceCacheCornell, DISABLED_DiffuseBoxBiasSweep) {
+  SceneFile sf = loadShippedScene("cornell-box", 16, 16);
+  std::vector<bool> mask = noEmitterSeen(*sf.scene);
+  SeedMeans pt = maskedSeedMeans(sf, {"path", "{}", 1024, 3}, 8, 2, mask);
+  printBiasSweep("irradiance cache, diffuse Cornell box", cacheLevels(sf, mask, {0.8, 0.4, 0.2, 0.1}, 8), pt);
+}
+
 // The cache changes only how diffuse indirect light is estimated: on the
 // Cornell box with a mirror and a glass sphere (specular chains to diffuse
 // surfaces, caustics inside records) its image agrees with the path tracer's
@@ -170,6 +228,9 @@ TEST(IrradianceCacheSettings, RejectsNonPhysicalAndMisplacedKeys) {
 // the stated allowance for interpolation bias and frozen record noise is 5%
 // of the path tracer's mean (measured: at most 1.3%), beyond the z-bound of
 // both films' variances.
+// Still chosen, not derived (issue 11): the films' variances miss the
+// records' frozen noise, and a bound from seeds is too wide here (see the
+// previous test); the derived, shrinking allowance is the diffuse box's.
 TEST(IrradianceCacheCornell, AgreesWithThePathTracerThroughMirrorAndGlass) {
   SceneFile sf = loadShippedScene("cornell-box-spheres", 24, 24);
   auto pt = regionMeans(*renderScene(sf, {"path", "{}", 1024, 3}), 3, 3);

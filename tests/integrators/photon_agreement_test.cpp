@@ -9,64 +9,12 @@
 #include <gtest/gtest.h>
 #include <fstream>
 #include <iostream>
-#include "tests/support/render_helpers.h"
-#include "tests/support/repeats.h"
+#include "tests/support/consistent_helpers.h"
 
 namespace lb::test {
 namespace {
 
 constexpr double Alpha = 1e-3;
-
-// Pixels whose camera rays (centre and corners) hit no emitter: an emitter
-// seen directly is the same for every integrator, and its edge pixels only add
-// pixel-jitter noise to the comparison.
-std::vector<bool> noEmitterSeen(const Scene& scene) {
-  const Camera& cam = scene.camera;
-  std::vector<bool> mask(size_t(cam.width()) * cam.height());
-  const Vec2 offsets[5] = {{0.5f, 0.5f}, {0.001f, 0.001f}, {0.999f, 0.001f}, {0.001f, 0.999f}, {0.999f, 0.999f}};
-  for (int y = 0; y < cam.height(); ++y)
-    for (int x = 0; x < cam.width(); ++x) {
-      bool ok = true;
-      for (Vec2 o : offsets) {
-        SurfaceInteraction si;
-        ok = ok && !(scene.intersect(cam.generateRay(Vec2(x, y) + o), si) && si.emitter);
-      }
-      mask[size_t(y) * cam.width() + x] = ok;
-    }
-  return mask;
-}
-
-// Region means over `seeds` independent renders, pixels restricted to `mask`.
-SeedMeans maskedSeedMeans(const SceneFile& sf, const RenderSpec& spec, int seeds, int regions,
-                          const std::vector<bool>& mask) {
-  SeedMeans out;
-  out.seeds = seeds;
-  std::vector<RunningStats> stats(size_t(regions * regions * 3));
-  for (int s = 0; s < seeds; ++s) {
-    RenderSpec one = spec;
-    one.seed = spec.seed + uint64_t(s);
-    Rendered r = renderWithReport(sf, one);
-    out.nonFinite += r.report.nonFinite;
-    RegionMeans m = regionMeans(*r.film, regions, regions, &mask);
-    for (size_t i = 0; i < stats.size(); ++i) stats[i].add(m.mean[i]);
-  }
-  out.regions.regionsX = out.regions.regionsY = regions;
-  for (const RunningStats& s : stats) {
-    out.regions.mean.push_back(s.mean);
-    out.regions.varianceOfMean.push_back(s.varianceOfMean());
-  }
-  return out;
-}
-
-// Largest |deviation| / reference mean over regions and channels, and the sum of |deviations|.
-std::pair<double, double> deviations(const SeedMeans& a, const SeedMeans& ref) {
-  double worst = 0, sum = 0;
-  for (size_t i = 0; i < a.regions.mean.size(); ++i) {
-    double d = std::abs(a.regions.mean[i] - ref.regions.mean[i]);
-    worst = std::max(worst, d / ref.regions.mean[i]), sum += d;
-  }
-  return {worst, sum};
-}
 
 // A GGX conductor (alpha 0.2) in a uniform environment, nothing else: every
 // path is camera → sphere → environment, so neither photon map contributes
@@ -89,7 +37,7 @@ TEST(PhotonAgreement, GlossySphereInAnEnvironment) {
     EXPECT_EQ(m.nonFinite, 0u);
     std::string failures = compareSeedMeans(m, pt, Alpha, 2 * 12);
     EXPECT_TRUE(failures.empty()) << name << ":" << failures;
-    std::cout << name << ": glossy sphere, largest deviation from the path tracer " << 100 * deviations(m, pt).first << " %\n";
+    std::cout << name << ": glossy sphere, largest deviation from the path tracer " << 100 * deviations(m, pt).worst << " %\n";
   }
 }
 
@@ -111,7 +59,7 @@ void cornellAtEqualDepth(const std::string& integrator, const std::string& param
   std::vector<bool> mask = noEmitterSeen(*sf.scene);
   const int Seeds = 8;
   SeedMeans pt = maskedSeedMeans(sf, {"path", "{max_depth: 4}", 512, 1}, Seeds, 2, mask);
-  std::pair<double, double> measured[2];
+  Deviations measured[2];
   double noise = 0;
   const float radii[2] = {0.2f, 0.1f};
   for (int i = 0; i < 2; ++i) {
@@ -123,10 +71,10 @@ void cornellAtEqualDepth(const std::string& integrator, const std::string& param
     measured[i] = deviations(m, pt);
     for (size_t j = 0; j < m.regions.mean.size(); ++j) noise += m.regions.varianceOfMean[j] + pt.regions.varianceOfMean[j];
   }
-  std::cout << integrator << ": Cornell box with spheres, max_depth 4: largest deviation " << 100 * measured[0].first
-            << " % at r = 0.2, " << 100 * measured[1].first << " % at r = 0.1\n";
+  std::cout << integrator << ": Cornell box with spheres, max_depth 4: largest deviation " << 100 * measured[0].worst
+            << " % at r = 0.2, " << 100 * measured[1].worst << " % at r = 0.1\n";
   double z = normalCritical(Alpha);
-  EXPECT_LE(measured[1].second, measured[0].second + z * std::sqrt(noise)) << "bias must not grow as r shrinks";
+  EXPECT_LE(measured[1].sum, measured[0].sum + z * std::sqrt(noise)) << "bias must not grow as r shrinks";
 }
 
 TEST(PhotonAgreement, PhotonMappingOnTheCornellBoxWithSpheresAtEqualMaxDepth) {
@@ -176,7 +124,7 @@ TEST(PhotonAgreement, SmoothShadedMesh) {
     EXPECT_EQ(m.nonFinite, 0u);
     std::string failures = compareSeedMeans(m, pt, Alpha, 2 * 12, 0.15 * 0.04);
     EXPECT_TRUE(failures.empty()) << name << ":" << failures;
-    std::cout << name << ": smooth-shaded mesh, largest deviation from the path tracer " << 100 * deviations(m, pt).first << " %\n";
+    std::cout << name << ": smooth-shaded mesh, largest deviation from the path tracer " << 100 * deviations(m, pt).worst << " %\n";
   }
 }
 

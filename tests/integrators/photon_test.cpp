@@ -3,10 +3,11 @@
 // against unbiased ones within its (stated) bias.
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include "core/rng.h"
 #include "integrators/photon/photon_integrator.h"
-#include "tests/support/render_helpers.h"
+#include "tests/support/consistent_helpers.h"
 
 namespace lb::test {
 namespace {
@@ -107,34 +108,64 @@ TEST(PhotonMap, IrradianceUnderAPointLightMatchesTheAnalyticValue) {
   }
 }
 
-TEST(PhotonMapper, AgreesWithPathTracingOnTheDiffuseCornellBox) {
-  // Photon mapping is biased: the density estimates blur irradiance over
-  // their disc and darken near edges and corners (boundary bias). The stated
-  // bound for these settings (2e5 photons, k = 30, radius ≤ 5% of the scene)
-  // is 4% of each region's mean on top of the statistical z-bound; and with
-  // 16× the photons the largest deviation must shrink (consistency).
-  SceneFile sf = loadShippedScene("cornell-box", 24, 24);
-  auto pt = regionMeans(*renderScene(sf, {"path", "{}", 1024, 41}), 3, 3);
-  double worst[2];
-  int run = 0;
-  for (std::string params : {"{global_photons: 50000, caustic_photons: 0, final_gather: 16}",
-                             "{global_photons: 800000, caustic_photons: 0, final_gather: 16}"}) {
-    auto pm = regionMeans(*renderScene(sf, {"photon", params, 64, 42}), 3, 3);
-    double z = normalCritical(sidak(Alpha, int(pm.mean.size())));
-    worst[run] = 0;
-    for (size_t i = 0; i < pm.mean.size(); ++i) {
-      double deviation = std::abs(pm.mean[i] - pt.mean[i]);
-      double statistical = z * std::sqrt(pm.varianceOfMean[i] + pt.varianceOfMean[i]);
-      if (run == 1) {
-        EXPECT_LE(deviation, statistical + 0.04 * pt.mean[i]) << "region " << i / 3 << " channel " << i % 3;
-      }
-      worst[run] = std::max(worst[run], std::max(0.0, deviation - statistical) / pt.mean[i]);
-    }
-    ++run;
+// Photon mapping with final gathering on the diffuse Cornell box against the
+// path tracer, region means over 16 seeds each (the spread includes the noise
+// frozen into each photon map). The bias: the global map's k-nearest density
+// estimate (k = 30, max_radius 1 so that k sets every radius) blurs light
+// over r_k and darkens near edges and corners, where part of the disc lies
+// off the surface (boundary bias); both are first order in r_k ∝ N^(-1/2)
+// for N photon paths. Final gathering averages that over the room, so the
+// image's bias is a fraction of it. Stated allowance c × p with
+// p = sqrt(1e5 / N) (p = 1 at 10^5 photon paths), c = 0.011, measured by
+// the sweep below (DISABLED_DiffuseCornellBoxBiasSweep: 16×16, 2×2 regions,
+// 8 seeds, 16 spp, final_gather 8; path tracer 8 × 1024 spp) at N = 3125,
+// 12500, 50000, 200000 (p = 5.66, 2.83, 1.41, 0.71): largest region
+// deviation −4.24, −2.84, −1.40, −1.56 % (all regions negative at the first
+// two; noise sd 0.9–1.2 %), summed 0.0319, 0.0145, 0.0069, 0.0060 (noise sd
+// 0.0024–0.0013); |d| / (mean × p) = 0.0075, 0.0100, 0.0099 where resolved
+// (0.022 at p = 0.71, where c × p = 0.7 % is below the noise sd); the same
+// at 8 seeds and N = 3125, 12500 with other seeds: −4.44 % and −3.05 %
+// (ratio 0.0108). This test's own run (16 seeds): p = 5.66: −4.77 %, summed
+// 0.0326 ± 0.0015; p = 2.83: −2.78 %, summed 0.0150 ± 0.0012.
+// Broken on purpose once: the photon means × 0.95 fail the allowance at
+// p = 2.83 (region 0 green 0.0640 vs 0.0682, gap 0.0042 > 0.0041, 8 seeds);
+// × 1.05 cancels the −3 to −5 % bias within the allowance but fails the
+// shrink (summed 0.0091 at p = 5.66 → 0.0275 at 2.83, noise 0.0065); the
+// smaller-N level × 0.97 (a bias that does not shrink) fails it too
+// (0.0305 → 0.0387, noise 0.0097).
+// The test runs N = 3125 and 12500 (r_k halves): every region within the
+// seeds' t-bound plus c × p, and the summed deviation at 12500 smaller than
+// at 3125 beyond the noise. (Replaces a chosen 4 % at 8e5 photons, and a
+// check that the bias "must not grow".)
+constexpr double PhotonCornellCoefficient = 0.011;
+
+std::vector<BiasLevel> diffuseCornellLevels(const SceneFile& sf, const std::vector<bool>& mask,
+                                            const std::vector<size_t>& photonPaths, int seeds) {
+  std::vector<BiasLevel> levels;
+  uint64_t seed = 1000;
+  for (size_t n : photonPaths) {
+    std::string params = "{global_photons: " + std::to_string(n) + ", caustic_photons: 0, final_gather: 8, max_radius: 1}";
+    levels.push_back({std::sqrt(1e5 / double(n)), maskedSeedMeans(sf, {"photon", params, 16, seed}, seeds, 2, mask)});
+    seed += 100;
   }
-  std::cout << "largest deviation beyond the statistical bound: " << 100 * worst[0] << "% (5e4 photons), "
-            << 100 * worst[1] << "% (8e5 photons)\n";
-  EXPECT_LE(worst[1], worst[0]) << "bias must not grow with more photons";
+  return levels;
+}
+
+TEST(PhotonMapper, AgreesWithPathTracingOnTheDiffuseCornellBox) {
+  SceneFile sf = loadShippedScene("cornell-box", 16, 16);
+  std::vector<bool> mask = noEmitterSeen(*sf.scene);
+  const int Seeds = 16;
+  SeedMeans pt = maskedSeedMeans(sf, {"path", "{}", 256, 41}, Seeds, 2, mask);
+  std::vector<BiasLevel> levels = diffuseCornellLevels(sf, mask, {3125, 12500}, Seeds);
+  expectBiasWithinAndShrinking("photon, diffuse Cornell box", levels, pt, PhotonCornellCoefficient, 1e-3,
+                               2 * 2 * 3 * int(levels.size()));
+}
+
+TEST(PhotonMapper, DISABLED_DiffuseCornellBoxBiasSweep) {
+  SceneFile sf = loadShippedScene("cornell-box", 16, 16);
+  std::vector<bool> mask = noEmitterSeen(*sf.scene);
+  SeedMeans pt = maskedSeedMeans(sf, {"path", "{}", 1024, 41}, 8, 2, mask);
+  printBiasSweep("photon, diffuse Cornell box", diffuseCornellLevels(sf, mask, {3125, 12500, 50000, 200000}, 8), pt);
 }
 
 }  // namespace

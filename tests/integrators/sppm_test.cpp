@@ -1,13 +1,16 @@
 // SPPM (testing.md §5): the radius/flux update follows Hachisuka & Jensen's
 // formula; the estimate is consistent (error against a BDPT reference falls
 // with time); deterministic for a seed; and the photon mapper's caustic agrees
-// with BDPT where the caustic is brightest.
+// with BDPT where the caustic is brightest, within a bias allowance that
+// shrinks with the gather radius.
 #include <gtest/gtest.h>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
 #include "integrators/photon/photon_integrator.h"
 #include "integrators/render_loop.h"
 #include "integrators/sppm/sppm.h"
-#include "tests/support/render_helpers.h"
+#include "tests/support/consistent_helpers.h"
 
 namespace lb::test {
 namespace {
@@ -82,34 +85,85 @@ TEST(Sppm, GridAndFlannLookupsFindTheSameVisiblePoints) {
   EXPECT_EQ(std::memcmp(grid.pixels.data(), flann.pixels.data(), grid.pixels.size() * sizeof(Color)), 0);
 }
 
-TEST(PhotonMapper, CausticUnderTheGlassSphereAgreesWithBdpt) {
-  // The brightest 8×8 block of BDPT's image of the caustic scene is the
-  // caustic; the photon map's mean there must agree within BDPT's z-bound plus
-  // the stated density-estimation bias: 15% (the disc blurs the caustic's
-  // sharp edge into its dark surround — the proximity bias).
-  SceneFile sf = loadShippedScene("caustic-glass-sphere", 64, 48);
-  auto bd = renderScene(sf, {"bdpt", "{}", 1024, 61});
-  Image b = bd->image(), var = bd->varianceOfMean();
-  int bx = 0, by = 0;
+// The photon mapper's caustic under the glass sphere against BDPT, on the
+// 4×4 block (at 64×48) where the caustic seen directly (every pixel's primary
+// hit diffuse) is brightest, chosen on an independent light-tracing image
+// (choosing it on the reference's own image would bias the reference
+// upwards). Both sides are means over 8 seeds: the photon side's spread
+// includes the noise frozen into its caustic map. The caustic map's discs
+// hold the k = 400 nearest photons, r_k ∝ N^(-1/2) for N caustic photon
+// paths (≈ 0.05 in the caustic at N = 10^5; the sphere's radius is 0.5);
+// max_radius 0.25 bounds the sparse global map's discs.
+// Measured by the sweep below (DISABLED_CausticBiasSweep, 8 seeds, BDPT
+// 8 × 256 spp) at N = 6250, 25000, 1e5, 4e5, i.e. p = sqrt(1e5 / N) = 4, 2,
+// 1, 0.5: deviations −1.44, −1.22, −1.41, −0.29 % (noise sd 0.50, 0.63,
+// 0.61, 0.38 %); on an 8×8 block −0.37, −0.45, −0.25, −0.17 %. So the
+// proximity bias on this caustic, seen directly, is at most ~1.5 % up to
+// r_k ≈ 0.2, and its shrinking is not resolvable within a test's time (the
+// diffuse Cornell box test in photon_test.cpp shows it); a second run at
+// p = 4 gave −0.63 %. Stated allowance c × p with c = 0.015, the largest
+// |d| / (mean × p) measured (0.0141 at p = 1), run at p = 1: 1.5 % beyond
+// the seeds' t-bound (measured in this test: −0.04 ± 0.40 %). Broken on
+// purpose once: the photon means × 1.05 fail (0.1028 vs 0.0979, gap 0.0049
+// > 0.0029). (Replaces a chosen 15 % on one render of each.)
+// Caution: a block that includes pixels seeing the floor through the sphere
+// (L S D S S E paths) has the photon mapper 28 % above BDPT at N ≥ 1e5: BDPT
+// can sample those paths only by hitting the tiny light after the glass
+// (s = 0), so its mean there is short of light with a variance that does not
+// show it; hence the directly-seen block.
+constexpr double CausticCoefficient = 0.015;
+
+constexpr int Block = 4;  // pixels on a side
+
+std::vector<bool> brightestCausticBlock(const SceneFile& sf) {
+  Image sel = renderScene(sf, {"light", "{}", 32, 60})->image();
+  std::vector<bool> diffuse = diffusePrimaryHits(*sf.scene);
+  int w = sel.width, h = sel.height, bx = 0, by = 0;
   double best = -1;
-  for (int y = 0; y + 8 <= 48; y += 2)
-    for (int x = 0; x + 8 <= 64; x += 2) {
+  for (int y = 0; y + Block <= h; ++y)
+    for (int x = 0; x + Block <= w; ++x) {
       double s = 0;
-      for (int j = 0; j < 8; ++j)
-        for (int i = 0; i < 8; ++i) s += luminance(b.at(x + i, y + j));
-      if (s > best) best = s, bx = x, by = y;
+      bool seenDirectly = true;
+      for (int j = 0; j < Block; ++j)
+        for (int i = 0; i < Block; ++i)
+          s += luminance(sel.at(x + i, y + j)), seenDirectly = seenDirectly && diffuse[size_t(y + j) * w + x + i];
+      if (seenDirectly && s > best) best = s, bx = x, by = y;
     }
-  auto pm = renderScene(sf, {"photon", "{caustic_photons: 1000000, global_photons: 100000}", 16, 62});
-  Image p = pm->image();
-  double mb = 0, mp = 0, vb = 0;
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      mb += luminance(b.at(bx + i, by + j)) / 64, mp += luminance(p.at(bx + i, by + j)) / 64;
-      Color v = var.at(bx + i, by + j);
-      vb += (v.r + v.g + v.b) / 3 / (64.0 * 64.0);  // channels are equal here (white light, grey floor)
-    }
-  EXPECT_LE(std::abs(mp - mb), normalCritical(Alpha) * std::sqrt(vb) + 0.15 * mb)
-      << "caustic block at (" << bx << "," << by << "): photon " << mp << " vs BDPT " << mb;
+  std::printf("caustic block at (%d, %d)\n", bx, by);
+  std::vector<bool> block(size_t(w) * h, false);
+  for (int j = 0; j < Block; ++j)
+    for (int i = 0; i < Block; ++i) block[size_t(by + j) * w + bx + i] = true;
+  return block;
+}
+
+std::vector<BiasLevel> causticLevels(const SceneFile& sf, const std::vector<bool>& block,
+                                     const std::vector<size_t>& causticPaths, int seeds) {
+  std::vector<BiasLevel> levels;
+  uint64_t seed = 2000;
+  for (size_t n : causticPaths) {
+    std::string params = "{caustic_photons: " + std::to_string(n) +
+                         ", global_photons: 20000, final_gather: 4, k: 400, max_radius: 0.25}";
+    levels.push_back({std::sqrt(1e5 / double(n)), maskedSeedMeans(sf, {"photon", params, 4, seed}, seeds, 1, block)});
+    seed += 100;
+  }
+  return levels;
+}
+
+TEST(PhotonMapper, CausticUnderTheGlassSphereAgreesWithBdpt) {
+  SceneFile sf = loadShippedScene("caustic-glass-sphere", 64, 48);
+  std::vector<bool> block = brightestCausticBlock(sf);
+  const int Seeds = 8;
+  SeedMeans bd = maskedSeedMeans(sf, {"bdpt", "{}", 64, 61}, Seeds, 1, block);
+  std::vector<BiasLevel> levels = causticLevels(sf, block, {100000}, Seeds);
+  expectBiasWithinAndShrinking("photon, glass-sphere caustic block", levels, bd, CausticCoefficient, Alpha,
+                               3 * int(levels.size()));
+}
+
+TEST(PhotonMapper, DISABLED_CausticBiasSweep) {
+  SceneFile sf = loadShippedScene("caustic-glass-sphere", 64, 48);
+  std::vector<bool> block = brightestCausticBlock(sf);
+  SeedMeans bd = maskedSeedMeans(sf, {"bdpt", "{}", 256, 61}, 8, 1, block);
+  printBiasSweep("photon, glass-sphere caustic block", causticLevels(sf, block, {6250, 25000, 100000, 400000}, 8), bd);
 }
 
 }  // namespace

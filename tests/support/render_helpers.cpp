@@ -62,7 +62,7 @@ RegionMeans regionMeans(const Film& film, int rx, int ry, const std::vector<bool
   return r;
 }
 
-std::vector<bool> diffusePrimaryHits(const Scene& scene) {
+std::vector<bool> primaryHitMask(const Scene& scene, const std::function<bool(bool, const SurfaceInteraction&)>& keep) {
   const Camera& cam = scene.camera;
   std::vector<bool> mask(size_t(cam.width()) * cam.height());
   const Vec2 offsets[5] = {{0.5f, 0.5f}, {0.001f, 0.001f}, {0.999f, 0.001f}, {0.001f, 0.999f}, {0.999f, 0.999f}};
@@ -71,12 +71,18 @@ std::vector<bool> diffusePrimaryHits(const Scene& scene) {
       bool ok = true;
       for (Vec2 o : offsets) {
         SurfaceInteraction si;
-        ok = ok && scene.intersect(cam.generateRay(Vec2(x, y) + o), si) && si.material &&
-             si.material->flags() == (BSDFReflection | BSDFDiffuse);
+        bool hit = scene.intersect(cam.generateRay(Vec2(x, y) + o), si);
+        ok = ok && keep(hit, si);
       }
       mask[size_t(y) * cam.width() + x] = ok;
     }
   return mask;
+}
+
+std::vector<bool> diffusePrimaryHits(const Scene& scene) {
+  return primaryHitMask(scene, [](bool hit, const SurfaceInteraction& si) {
+    return hit && si.material && si.material->flags() == (BSDFReflection | BSDFDiffuse);
+  });
 }
 
 ::testing::AssertionResult meanMatches(const Film& film, double expected, double alpha, int channel, int x0, int y0,

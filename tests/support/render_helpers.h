@@ -1,6 +1,7 @@
 #pragma once
 // Shared set-up for integrator tests: load a shipped scene at a small size (or a
 // scene from text), render it with an integrator, and compare region means.
+#include <functional>
 #include <memory>
 #include <string>
 #include "core/film.h"
@@ -40,8 +41,10 @@ struct RegionMeans {
 };
 // `mask` (optional, one entry per pixel) keeps only the pixels marked true.
 RegionMeans regionMeans(const Film& film, int regionsX, int regionsY, const std::vector<bool>* mask = nullptr);
-// Pixels whose camera rays (centre and four corners) all first hit a surface
-// with a purely diffuse material.
+// Pixels whose camera rays (centre and four corners) all satisfy `keep`,
+// given whether the ray hit and what it hit first.
+std::vector<bool> primaryHitMask(const Scene& scene, const std::function<bool(bool, const SurfaceInteraction&)>& keep);
+// Pixels whose camera rays all first hit a surface with a purely diffuse material.
 std::vector<bool> diffusePrimaryHits(const Scene& scene);
 
 // Mean over a rectangle of the film against an exact value: z-test with the
