@@ -1,0 +1,207 @@
+// The consistent integrators (SPPM, photon mapping) against BDPT on the
+// shipped caustic scenes (issue 11, "agreement beyond the Cornell box";
+// caustic_agreement_test.cpp compares the unbiased ones). The region compared
+// is the caustic itself: the diffuse pixels at least 3× the median diffuse
+// pixel, chosen on an independent light-tracing image (as in
+// caustic_agreement_test.cpp). Both sides are means over seeds (the
+// consistent side's spread includes the noise frozen into its photon maps);
+// each method runs at two levels of its bias parameter p, within a stated
+// allowance c × p beyond the seeds' t-bound, and its deviation at the smaller
+// p must be smaller beyond the noise (consistent_helpers.h); where the bias is
+// not resolved above the noise, at one level and the allowance only.
+// Settings: SPPM 24 passes × 20000 photons; photon mapping k = 30,
+// global_photons 50000, final_gather 2, 4 spp; seeds per case below.
+//
+// The bias on a caustic is the proximity bias: its sharp edges are spread
+// over the gather disc into the dark surround, so the caustic region loses
+// light across its border, first order in the radius.
+//   sppm    initial_radius R0 p, alpha 0.99 (the radius stays almost fixed)
+//   photon  caustic_photons N0 / p², k-nearest radius (k = 30): r_k ∝ N^(-1/2) ∝ p
+//
+// Sweeps (DISABLED_ tests below, p = 2, 1, 0.5, 0.25; signed deviation of
+// the caustic region's mean from BDPT's ± the noise sd, and the largest
+// |d| / (ref p); two independent runs where two figures are given):
+//   sppm, glass sphere (R0 0.05, 24 passes × 20000 photons, 6 seeds):
+//     −23.7 ± 0.9 %, −4.8 ± 1.0 %, +3.7 ± 1.8 %, −3.3 ± 2.5 %;
+//     |d|/(ref p) 0.119, 0.048, 0.074, 0.131 (a 64-pass × 8-seed run:
+//     0.121, 0.046, 0.027, 0.028) → c = 0.14. Resolved and shrinking only
+//     from p = 2 to 1; below p = 1 the deviation is within the noise. At
+//     p = 2 the radius (0.1) is comparable with the caustic, so the bias is
+//     above linear there: c is set by p = 2 and is loose at p = 1, which is
+//     why a 5 % scale of the SPPM means does not fail this test (below).
+//   sppm, metal ring (R0 0.2, 8 seeds): −3.70 ± 0.24 %, −1.78 / −1.97 ± 0.2 %,
+//     −1.40 / −0.86 ± 0.2 %, −0.82 ± 0.22 %; |d|/(ref p) 0.019, 0.018 / 0.020,
+//     0.028 / 0.017, 0.033 → c = 0.035. Tested at p = 2, 1: from 1 to 0.5
+//     one run of two did not shrink beyond the noise.
+//   photon, metal ring (N0 1e5, 24 seeds): −2.05 ± 0.38 %, −1.14 / −1.52 ± 0.23 %,
+//     −0.68 / −0.58 ± 0.2 %, −0.26 ± 0.17 %; |d|/(ref p) 0.010, 0.011 / 0.015,
+//     0.014 / 0.012, 0.010 (an 8-seed run: up to 0.0153) → c = 0.02. Tested
+//     at p = 2, 0.5: from 1 to 0.5 one run of two did not shrink beyond the
+//     noise.
+//   photon, glass sphere (N0 1e5, 8 seeds): +12.5 ± 6.3 %, +6.2 ± 4.6 %,
+//     +11.1 ± 3.6 %, +19.3 ± 5.9 % (earlier runs with other photon counts and
+//     final gathers: −3 … +15 %, never shrinking with p). LEFT OUT: its
+//     deviation is not resolved above the noise at p ≥ 1, and where it is
+//     (p ≤ 0.5) it does not shrink with p — it is not a c × p bias of the
+//     caustic map (the global map and final gather, not scaled with p, may
+//     carry it); an allowance stated from these figures would mean nothing.
+//   sppm, enclosed light (R0 0.2, 8 seeds; the test uses 3): −3.83 ± 0.15 %,
+//     −1.01 ± 0.16 %, −0.46 ± 0.14 %, −0.23 ± 0.15 %; |d|/(ref p) 0.019,
+//     0.010, 0.009, 0.009 (test runs at 3–4 seeds: 0.0198 / 0.0189 at p = 2)
+//     → c = 0.025. Tested at p = 2, 1.
+//   photon, enclosed light (N0 1e5, 16 seeds; the test uses 8): +0.05 ± 0.37 %,
+//     +0.18 ± 0.29 %, −0.41 ± 0.31 %, −0.42 ± 0.27 %; |d|/(ref p) up to
+//     0.017 (at p = 0.25) → c = 0.02. Not resolved above the noise at any p:
+//     the test checks the allowance at p = 1 only, no shrink.
+//
+// On the metal ring the pixels the 3× median rule selects (778 of 3072 at
+// 64 × 48) are mostly the table's direct highlight around the cardioid, as
+// caustic_agreement_test.cpp notes; the bias measured there is the methods'
+// bias on that whole region.
+//
+// Deliberate break, checked once by hand: the method's means × 1.05
+// (scaled()) fail
+//   sppm, metal ring: p = 1 gap 0.0277 > 0.0258 (+4.3 %), and the deviation
+//     grows from p = 2 (0.043) to p = 1 (0.076);
+//   photon, metal ring: p = 0.5 gap 0.033 > 0.015 (+4.8 %), and the deviation
+//     grows from p = 2 (0.070) to p = 0.5 (0.097);
+//   sppm, enclosed light: p = 1 gap 0.0298 > 0.0288 (+3.8 %), and the
+//     deviation grows from p = 2 (0.025) to p = 1 (0.089);
+//   photon, enclosed light: p = 1 gap 0.041 > 0.036 (+5.1 %).
+// They do NOT fail SPPM on the glass sphere: its bias is −24 % at p = 2 and
+// −4.8 % at p = 1, so × 1.05 gives −20 % and 0.0 %, within the allowance
+// and still shrinking. Catching a 5 % error there needs p ≤ 0.5 resolved,
+// about 4× the passes this test can afford in 8 s.
+#include <gtest/gtest.h>
+#include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <memory>
+#include "tests/support/consistent_helpers.h"
+
+namespace lb::test {
+namespace {
+
+constexpr double Alpha = 1e-3;
+
+// The parameter's scale on a scene: SPPM's radius R0 and the caustic photon
+// count N0 at p = 1.
+struct Scale {
+  double radius, photons;
+};
+struct Method {
+  std::string integrator;
+  std::function<std::string(double p, const Scale&)> params;
+  uint64_t spp;
+};
+
+const Method PhotonMethod{"photon",
+                          [](double p, const Scale& s) {
+                            return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
+                                   ", global_photons: 50000, final_gather: 2, k: 30}";
+                          },
+                          4};
+const Method SppmMethod{"sppm",
+                        [](double p, const Scale& s) {
+                          return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " + std::to_string(s.radius * p) +
+                                 "}";
+                        },
+                        24};
+
+struct CausticScene {
+  std::string name;
+  int width, height;
+  uint64_t bdptSpp, ltSpp;
+  int seeds;  // of the BDPT reference
+  Scale scale;
+};
+const CausticScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 6, {0.05, 1e5}};
+const CausticScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
+const CausticScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
+
+std::vector<bool> causticPixels(const SceneFile& sf, const std::string& name, uint64_t ltSpp) {
+  std::vector<bool> diffuse = diffusePrimaryHits(*sf.scene);
+  std::vector<bool> caustic(diffuse.size(), false);
+  Image sel = renderScene(sf, {"light", "{}", ltSpp, 700})->image();
+  std::vector<float> values;
+  for (size_t i = 0; i < diffuse.size(); ++i)
+    if (diffuse[i]) values.push_back(luminance(sel.pixels[i]));
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  float median = values[values.size() / 2];
+  int count = 0;
+  for (size_t i = 0; i < diffuse.size(); ++i)
+    if (diffuse[i] && luminance(sel.pixels[i]) > 3 * median) caustic[i] = true, ++count;
+  std::printf("%s: %d caustic pixels\n", name.c_str(), count);
+  EXPECT_GE(count, 4) << name << ": the caustic covers too few pixels to test";
+  return caustic;
+}
+
+struct Setup {
+  Scale scale;
+  SceneFile sf;
+  std::vector<bool> caustic;
+  SeedMeans bdpt;
+};
+// One set-up per scene, shared by its tests.
+const Setup& setUp(const CausticScene& s) {
+  static std::map<std::string, std::unique_ptr<Setup>> cache;
+  std::unique_ptr<Setup>& out = cache[s.name];
+  if (!out) {
+    out.reset(new Setup{s.scale, loadShippedScene(s.name, s.width, s.height), {}, {}});
+    out->caustic = causticPixels(out->sf, s.name, s.ltSpp);
+    out->bdpt = maskedSeedMeans(out->sf, {"bdpt", "{}", s.bdptSpp, 710}, s.seeds, 1, out->caustic);
+  }
+  return *out;
+}
+
+std::vector<BiasLevel> levels(const Setup& s, const Method& m, const std::vector<double>& ps, int seeds) {
+  std::vector<BiasLevel> out;
+  uint64_t seed = 800;
+  for (double p : ps) {
+    out.push_back({p, maskedSeedMeans(s.sf, {m.integrator, m.params(p, s.scale), m.spp, seed}, seeds, 1, s.caustic)});
+    seed += 1000;
+  }
+  return out;
+}
+
+// A method on a scene: its seeds and the levels of p it is tested at.
+struct Case {
+  const CausticScene& scene;
+  const Method& method;
+  int seeds;
+};
+const Case SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSphere, PhotonMethod, 8},
+    SppmRing{MetalRing, SppmMethod, 8}, PhotonRing{MetalRing, PhotonMethod, 24},
+    SppmEnclosed{EnclosedLight, SppmMethod, 3}, PhotonEnclosed{EnclosedLight, PhotonMethod, 8};
+
+void expectConsistent(const Case& c, const std::vector<double>& ps, double coefficient) {
+  const Setup& s = setUp(c.scene);
+  std::vector<BiasLevel> l = levels(s, c.method, ps, c.seeds);
+  expectBiasWithinAndShrinking(c.method.integrator + ", " + c.scene.name + " caustic", l, s.bdpt, coefficient, Alpha,
+                               3 * int(l.size()));
+}
+
+// c from the sweeps (top of the file), rounded up. The levels are the pair
+// whose bias is resolved above the noise in every run seen.
+TEST(ConsistentCaustic, SppmOnTheGlassSphere) { expectConsistent(SppmGlass, {2, 1}, 0.14); }
+TEST(ConsistentCaustic, SppmOnTheMetalRing) { expectConsistent(SppmRing, {2, 1}, 0.035); }
+TEST(ConsistentCaustic, PhotonOnTheMetalRing) { expectConsistent(PhotonRing, {2, 0.5}, 0.02); }
+TEST(ConsistentCaustic, SppmOnTheEnclosedLight) { expectConsistent(SppmEnclosed, {2, 1}, 0.025); }
+// Its bias is not resolved above the noise at any p swept: the allowance only.
+TEST(ConsistentCaustic, PhotonOnTheEnclosedLight) { expectConsistent(PhotonEnclosed, {1}, 0.02); }
+// Photon mapping on the glass sphere is left out: see the top of the file.
+
+void sweep(const Case& c) {
+  printBiasSweep(c.method.integrator + ", " + c.scene.name + " caustic",
+                 levels(setUp(c.scene), c.method, {2, 1, 0.5, 0.25}, c.seeds), setUp(c.scene).bdpt);
+}
+TEST(ConsistentCaustic, DISABLED_SppmGlassSphereBiasSweep) { sweep(SppmGlass); }
+TEST(ConsistentCaustic, DISABLED_PhotonGlassSphereBiasSweep) { sweep(PhotonGlass); }
+TEST(ConsistentCaustic, DISABLED_SppmMetalRingBiasSweep) { sweep(SppmRing); }
+TEST(ConsistentCaustic, DISABLED_PhotonMetalRingBiasSweep) { sweep(PhotonRing); }
+TEST(ConsistentCaustic, DISABLED_SppmEnclosedLightBiasSweep) { sweep(SppmEnclosed); }
+TEST(ConsistentCaustic, DISABLED_PhotonEnclosedLightBiasSweep) { sweep(PhotonEnclosed); }
+
+}  // namespace
+}  // namespace lb::test
