@@ -42,9 +42,19 @@
 //     +11.1 ± 3.6 %, +19.3 ± 5.9 % (earlier runs with other photon counts and
 //     final gathers: −3 … +15 %, never shrinking with p). LEFT OUT: its
 //     deviation is not resolved above the noise at p ≥ 1, and where it is
-//     (p ≤ 0.5) it does not shrink with p — it is not a c × p bias of the
-//     caustic map (the global map and final gather, not scaled with p, may
-//     carry it); an allowance stated from these figures would mean nothing.
+//     (p ≤ 0.5) it does not shrink with p, so an allowance c × p stated
+//     from these figures would mean nothing. Where it comes from (measured
+//     after the sweep: the excess is in the caustic map's term — 0.88 at
+//     1.6e6 caustic photons against LT's and BDPT's 0.79, still 0.90–0.95
+//     with an empty global map): this caustic is a line thinner than the
+//     k-NN radius. At a dark point a distance d from a line of linear
+//     density λ (photons per length, N in all), r_k ≈ d, so the estimate is
+//     (k−1)/(N π d²); summed across the pixel from d = ℓ = k/(2λN) outwards
+//     it gives 4λ(k−1)/(πk) per unit length on top of the core's own share,
+//     roughly twice the light the line holds, whatever N is — until r_k falls
+//     below the caustic's real width. The k-nearest estimate is consistent
+//     there only once the caustic is resolved, far beyond test budgets;
+//     fixed-radius discs have no such excess (future test).
 //   sppm, enclosed light (R0 0.2, 8 seeds; the test uses 3): −3.83 ± 0.15 %,
 //     −1.01 ± 0.16 %, −0.46 ± 0.14 %, −0.23 ± 0.15 %; |d|/(ref p) 0.019,
 //     0.010, 0.009, 0.009 (test runs at 3–4 seeds: 0.0198 / 0.0189 at p = 2)
