@@ -43,15 +43,17 @@
 //     final gathers: −3 … +15 %, never shrinking with p). LEFT OUT: its
 //     deviation is not resolved above the noise at p ≥ 1, and where it is
 //     (p ≤ 0.5) it does not shrink with p, so an allowance c × p stated
-//     from these figures would mean nothing. Where it comes from (measured
+//     from these figures would mean nothing. The likely cause (measured
 //     after the sweep: the excess is in the caustic map's term — 0.88 at
 //     1.6e6 caustic photons against LT's and BDPT's 0.79, still 0.90–0.95
-//     with an empty global map): this caustic is a line thinner than the
+//     with an empty global map; the argument is not yet checked against a
+//     fixed-radius run): this caustic is a line thinner than the
 //     k-NN radius. At a dark point a distance d from a line of linear
 //     density λ (photons per length, N in all), r_k ≈ d, so the estimate is
 //     (k−1)/(N π d²); summed across the pixel from d = ℓ = k/(2λN) outwards
-//     it gives 4λ(k−1)/(πk) per unit length on top of the core's own share,
-//     roughly twice the light the line holds, whatever N is — until r_k falls
+//     it adds 4λ(k−1)/(πk) per unit length to the core's share (in the
+//     zero-width limit, about as much again as the line holds), whatever N
+//     is — until r_k falls
 //     below the caustic's real width. The k-nearest estimate is consistent
 //     there only once the caustic is resolved, far beyond test budgets;
 //     fixed-radius discs have no such excess (future test).
