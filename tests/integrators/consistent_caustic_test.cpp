@@ -53,8 +53,7 @@
 //     (k−1)/(N π d²); summed across the pixel from d = ℓ = k/(2λN) outwards
 //     it adds 4λ(k−1)/(πk) per unit length to the core's share (in the
 //     zero-width limit, about as much again as the line holds), whatever N
-//     is — until r_k falls
-//     below the caustic's real width. The k-nearest estimate is consistent
+//     is — until r_k falls below the caustic's real width. The k-nearest estimate is consistent
 //     there only once the caustic is resolved, far beyond test budgets;
 //     fixed-radius discs have no such excess (future test).
 //   sppm, enclosed light (R0 0.2, 8 seeds; the test uses 3): −3.83 ± 0.15 %,
