@@ -32,21 +32,11 @@ TEST(BdptEfficiency, CausticVarianceIsBoundedByLightTracingsPlusMeanSquared) {
   const uint64_t spp = 96;
   // The caustic's pixels: diffuse pixels of the crop at least 3× brighter
   // than the crop's median (the shadowed floor around it), chosen on an independent light-tracing image.
-  std::vector<bool> caustic(diffuse.size(), false);
-  {
-    Image sel = renderScene(sf, {"light", "{max_depth: 8}", spp, 299})->image();
-    std::vector<float> values;
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x)
-        if (diffuse[size_t(y) * W + x]) values.push_back(luminance(sel.at(x, y)));
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    float median = values[values.size() / 2];
-    int count = 0;
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x)
-        if (diffuse[size_t(y) * W + x] && luminance(sel.at(x, y)) > 3 * median) caustic[size_t(y) * W + x] = true, ++count;
-    ASSERT_GE(count, 5) << "the caustic must cover some pixels";
-  }
+  std::vector<bool> inCrop(diffuse.size(), false);
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) inCrop[size_t(y) * W + x] = diffuse[size_t(y) * W + x];
+  std::vector<bool> caustic = causticPixels(sf, {"light", "{max_depth: 8}", spp, 299}, inCrop);
+  ASSERT_GE(countTrue(caustic), 5u) << "the caustic must cover some pixels";
   std::vector<double> excess;
   double sumB = 0, sumL = 0;
   for (int k = 0; k < seeds; ++k) {

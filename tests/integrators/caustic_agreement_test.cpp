@@ -44,19 +44,9 @@ void expectAgreement(const Agreement& a) {
   std::vector<bool> diffuse = diffusePrimaryHits(*sf.scene);
   // The caustic itself as one region: diffuse pixels at least 3× the median
   // diffuse pixel, chosen on an independent light-tracing image.
-  std::vector<bool> caustic(diffuse.size(), false);
-  {
-    Image sel = renderScene(sf, {"light", params, a.ltSpp / 4, 500})->image();
-    std::vector<float> values;
-    for (size_t i = 0; i < diffuse.size(); ++i)
-      if (diffuse[i]) values.push_back(luminance(sel.pixels[i]));
-    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    int count = 0;
-    for (size_t i = 0; i < diffuse.size(); ++i)
-      if (diffuse[i] && luminance(sel.pixels[i]) > 3 * values[values.size() / 2]) caustic[i] = true, ++count;
-    if (a.hasCaustic) {
-      EXPECT_GE(count, 4) << a.name << ": the caustic covers too few pixels to test";
-    }
+  std::vector<bool> caustic = causticPixels(sf, {"light", params, a.ltSpp / 4, 500}, diffuse);
+  if (a.hasCaustic) {
+    EXPECT_GE(countTrue(caustic), 4u) << a.name << ": the caustic covers too few pixels to test";
   }
   if (a.hasCaustic) {
     RegionMeans l = regionMeans(*lt, 1, 1, &caustic), b = regionMeans(*bd, 1, 1, &caustic);

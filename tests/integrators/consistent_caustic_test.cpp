@@ -131,20 +131,10 @@ const CausticScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 6, {0.05
 const CausticScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
 const CausticScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
 
-std::vector<bool> causticPixels(const SceneFile& sf, const std::string& name, uint64_t ltSpp) {
-  std::vector<bool> diffuse = diffusePrimaryHits(*sf.scene);
-  std::vector<bool> caustic(diffuse.size(), false);
-  Image sel = renderScene(sf, {"light", "{}", ltSpp, 700})->image();
-  std::vector<float> values;
-  for (size_t i = 0; i < diffuse.size(); ++i)
-    if (diffuse[i]) values.push_back(luminance(sel.pixels[i]));
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  float median = values[values.size() / 2];
-  int count = 0;
-  for (size_t i = 0; i < diffuse.size(); ++i)
-    if (diffuse[i] && luminance(sel.pixels[i]) > 3 * median) caustic[i] = true, ++count;
-  std::printf("%s: %d caustic pixels\n", name.c_str(), count);
-  EXPECT_GE(count, 4) << name << ": the caustic covers too few pixels to test";
+std::vector<bool> causticMask(const SceneFile& sf, const std::string& name, uint64_t ltSpp) {
+  std::vector<bool> caustic = causticPixels(sf, {"light", "{}", ltSpp, 700}, diffusePrimaryHits(*sf.scene));
+  std::printf("%s: %zu caustic pixels\n", name.c_str(), countTrue(caustic));
+  EXPECT_GE(countTrue(caustic), 4u) << name << ": the caustic covers too few pixels to test";
   return caustic;
 }
 
@@ -160,7 +150,7 @@ const Setup& setUp(const CausticScene& s) {
   std::unique_ptr<Setup>& out = cache[s.name];
   if (!out) {
     out.reset(new Setup{s.scale, loadShippedScene(s.name, s.width, s.height), {}, {}});
-    out->caustic = causticPixels(out->sf, s.name, s.ltSpp);
+    out->caustic = causticMask(out->sf, s.name, s.ltSpp);
     out->bdpt = maskedSeedMeans(out->sf, {"bdpt", "{}", s.bdptSpp, 710}, s.seeds, 1, out->caustic);
   }
   return *out;

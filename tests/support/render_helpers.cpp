@@ -141,4 +141,17 @@ std::string compareRegions(const RegionMeans& a, const RegionMeans& b, double al
   return out.str();
 }
 
+std::vector<bool> causticPixels(const SceneFile& scene, const RenderSpec& selection, const std::vector<bool>& candidates) {
+  Image sel = renderScene(scene, selection)->image();
+  std::vector<float> values;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i]) values.push_back(luminance(sel.pixels[i]));
+  std::vector<bool> caustic(candidates.size(), false);
+  if (values.empty()) return caustic;
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  float median = values[values.size() / 2];
+  for (size_t i = 0; i < candidates.size(); ++i) caustic[i] = candidates[i] && luminance(sel.pixels[i]) > 3 * median;
+  return caustic;
+}
+
 }  // namespace lb::test

@@ -1,6 +1,7 @@
 #pragma once
 // Shared set-up for integrator tests: load a shipped scene at a small size (or a
 // scene from text), render it with an integrator, and compare region means.
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
@@ -46,6 +47,11 @@ RegionMeans regionMeans(const Film& film, int regionsX, int regionsY, const std:
 std::vector<bool> primaryHitMask(const Scene& scene, const std::function<bool(bool, const SurfaceInteraction&)>& keep);
 // Pixels whose camera rays all first hit a surface with a purely diffuse material.
 std::vector<bool> diffusePrimaryHits(const Scene& scene);
+// A directly seen caustic's pixels: those of `candidates` at least 3× their
+// median, chosen on an independent light-tracing render `selection` (so the
+// pixels compared later are not picked by their own noise).
+std::vector<bool> causticPixels(const SceneFile& scene, const RenderSpec& selection, const std::vector<bool>& candidates);
+inline size_t countTrue(const std::vector<bool>& mask) { return size_t(std::count(mask.begin(), mask.end(), true)); }
 
 // Mean over a rectangle of the film against an exact value: z-test with the
 // variance of the mean from the film's per-pixel estimates, plus a float
