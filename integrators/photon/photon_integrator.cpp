@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include "core/bsdfs/bsdf.h"
 #include "integrators/direct_light.h"
 #include "integrators/photon/photon_tracing.h"
@@ -20,8 +21,10 @@ PhotonMapSettings PhotonMapSettings::read(Params& p) {
   s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
   int k = p.getInt("k", 30);
   // The k-th photon only sets the radius (photon_map.h): k = 1 estimates nothing.
-  if (k < 2) p.fail("k", "must be at least 2 (the k-th nearest photon only sets the radius)");
-  s.query.k = size_t(k);
+  // k = 0: no k-th photon, the disc is always max_radius (fixed-radius estimate).
+  if (k < 0 || k == 1)
+    p.fail("k", "must be 0 (every photon within max_radius) or at least 2 (the k-th nearest photon only sets the radius)");
+  s.query.k = k == 0 ? std::numeric_limits<size_t>::max() : size_t(k);
   s.maxRadius = p.getFloat("max_radius", 0);
   if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
   return s;

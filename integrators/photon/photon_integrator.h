@@ -13,7 +13,8 @@
 //
 //   global_photons   200000  photon paths emitted for the global map
 //   caustic_photons  200000  photon paths emitted for the caustic map
-//   k                30      photons per density estimate (at least 2: the k-th sets the radius)
+//   k                30      photons per density estimate (at least 2: the k-th sets the radius;
+//                            0: every photon within max_radius, a fixed-radius estimate)
 //   max_radius       0       largest gather radius (world units); 0 = 5% of the scene's radius
 //   filter           cone    cone | epanechnikov | box
 //   final_gather     8       gather rays per camera sample (0: visualise the global map)

@@ -1,5 +1,7 @@
 #include "integrators/photon/photon_map.h"
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 
 namespace lb {
 
@@ -15,20 +17,30 @@ PointIndex::PointIndex(const std::vector<Vec3>& points) : count_(points.size()) 
 
 void PointIndex::knn(const Vec3& q, size_t k, float maxRadius, std::vector<std::pair<size_t, float>>& out) const {
   out.clear();
-  if (!index_ || k == 0) return;
-  k = std::min(k, count_);
+  if (!index_ || k == 0 || !(maxRadius > 0)) return;
   float query[3] = {q.x, q.y, q.z};
-  thread_local std::vector<size_t> idx;  // reused: a query allocates nothing
-  thread_local std::vector<float> dist;
-  idx.resize(k), dist.resize(k);
   flann::Matrix<float> qm(query, 1, 3);
-  flann::Matrix<size_t> im(idx.data(), 1, k);
-  flann::Matrix<float> dm(dist.data(), 1, k);
+  if (!std::isfinite(maxRadius)) {
+    k = std::min(k, count_);
+    thread_local std::vector<size_t> idx;  // reused: a query allocates nothing
+    thread_local std::vector<float> dist;
+    idx.resize(k), dist.resize(k);
+    flann::Matrix<size_t> im(idx.data(), 1, k);
+    flann::Matrix<float> dm(dist.data(), 1, k);
+    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0, true);  // exact, sorted
+    int found = index_->knnSearch(qm, im, dm, k, params);
+    for (int i = 0; i < found; ++i) out.push_back({idx[size_t(i)], dist[size_t(i)]});
+    return;
+  }
+  // Bounded by maxRadius: FLANN's radius search keeping the k nearest (a
+  // heap of k), so the search never visits the tree beyond the disc and k
+  // may be as large as the map ("every photon in the disc").
+  thread_local std::vector<std::vector<size_t>> idx;
+  thread_local std::vector<std::vector<float>> dist;
   flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0, true);  // exact, sorted
-  int found = index_->knnSearch(qm, im, dm, k, params);
-  float r2 = maxRadius * maxRadius;
-  for (int i = 0; i < found; ++i)
-    if (dist[size_t(i)] <= r2) out.push_back({idx[size_t(i)], dist[size_t(i)]});
+  params.max_neighbors = k >= count_ ? -1 : int(std::min<size_t>(k, size_t(INT32_MAX)));
+  index_->radiusSearch(qm, idx, dist, maxRadius * maxRadius, params);  // FLANN takes the squared radius
+  for (size_t i = 0; i < idx[0].size(); ++i) out.push_back({idx[0][i], dist[0][i]});
 }
 
 void PointIndex::radius(const Vec3& q, float radius, std::vector<std::pair<size_t, float>>& out) const {

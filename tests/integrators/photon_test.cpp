@@ -29,8 +29,19 @@ TEST(PhotonMap, FlannSearchesMatchBruteForce) {
     index.knn(c, 12, Infinity, found);
     ASSERT_EQ(found.size(), 12u);
     for (size_t i = 0; i < 12; ++i) ASSERT_EQ(found[i].first, all[i].second) << "query " << q << " rank " << i;
-    // Radius search (FLANN takes r²; the wrapper takes r): the same set.
+    // k nearest within a radius (the photon map's lookup): the nearest
+    // min(k, points in the disc), nearest first; k = every point (k: 0).
     float r = 0.03f;
+    size_t inDisc = size_t(std::count_if(all.begin(), all.end(), [&](auto& a) { return a.first < r * r; }));
+    for (size_t k : {size_t(5), points.size()}) {
+      index.knn(c, k, r, found);
+      ASSERT_EQ(found.size(), std::min(k, inDisc)) << "query " << q << ", k = " << k;
+      for (size_t i = 0; i < found.size(); ++i) {
+        ASSERT_EQ(found[i].first, all[i].second) << "query " << q << " rank " << i << ", k = " << k;
+        ASSERT_FLOAT_EQ(found[i].second, all[i].first);
+      }
+    }
+    // Radius search (FLANN takes r²; the wrapper takes r): the same set.
     index.radius(c, r, found);
     std::vector<size_t> got, want;
     for (auto& f : found) got.push_back(f.first);
