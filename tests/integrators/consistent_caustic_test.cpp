@@ -74,8 +74,8 @@
 // caustic_agreement_test.cpp notes; the bias measured there is the methods'
 // bias on that whole region.
 //
-// Deliberate break, checked once by hand: the method's means × 1.05
-// (scaled()) fail
+// Deliberate break, checked once by hand (expectConsistentScaled): the method's means × 1.05
+// fail
 //   sppm, metal ring: p = 1 gap 0.0277 > 0.0258 (+4.3 %), and the deviation
 //     grows from p = 2 (0.043) to p = 1 (0.076);
 //   photon, metal ring: p = 0.5 gap 0.033 > 0.015 (+4.8 %), and the deviation
@@ -89,39 +89,20 @@
 // and still shrinking. Catching a 5 % error there needs p ≤ 0.5 resolved,
 // about 4× the passes this test can afford in 8 s.
 #include <gtest/gtest.h>
-#include <algorithm>
-#include <cstdio>
-#include <functional>
-#include <map>
-#include <memory>
-#include "tests/support/consistent_helpers.h"
+#include <string>
+#include "tests/support/consistent_cases.h"
 
 namespace lb::test {
 namespace {
 
 constexpr double Alpha = 1e-3;
 
-// The parameter's scale on a scene: SPPM's radius R0 and the caustic photon
-// count N0 at p = 1.
-struct Scale {
-  double radius, photons;
-};
-struct Method {
-  std::string integrator;
-  std::function<std::string(double p, const Scale&)> params;
-  uint64_t spp;
-  std::string sceneYaml = "";  // merged into the scene (e.g. a stratified camera sampler)
-};
-
-const Method PhotonMethod{"photon",
-                          [](double p, const Scale& s) {
-                            return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
-                                   ", global_photons: 50000, final_gather: 2, k: 30}";
-                          },
-                          4};
-// Photon mapping with a fixed disc (k: 0, every photon within max_radius =
-// R0 p), many caustic photons: the estimate at a point is the photons' flux
-// in the disc over its area, which integrates to the flux that landed.
+const ConsistentMethod PhotonMethod{"photon",
+                                    [](double p, const Scale& s) {
+                                      return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
+                                             ", global_photons: 50000, final_gather: 2, k: 30}";
+                                    },
+                                    4};
 // On the glass sphere the caustic has structure finer than a pixel, so a
 // pixel's value also needs many well-spread camera samples: with 4
 // independent ones per pixel the seeds' means there are heavy-tailed (most
@@ -129,122 +110,55 @@ const Method PhotonMethod{"photon",
 // noise. Stratified 8 × 8 camera samples make that noise small beside the
 // photon map's.
 const std::string Stratified = "sampler: {type: stratified, strata: 8}";
-const Method StratifiedPhotonMethod{"photon",
-                                    [](double p, const Scale& s) {
-                                      return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
-                                             ", global_photons: 100000, final_gather: 1, k: 30}";
-                                    },
-                                    64, Stratified};
+const ConsistentMethod StratifiedPhotonMethod{"photon",
+                                              [](double p, const Scale& s) {
+                                                return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
+                                                       ", global_photons: 100000, final_gather: 1, k: 30}";
+                                              },
+                                              64, Stratified};
 // Photon mapping with a fixed disc (k: 0, every photon within max_radius =
 // R0 p): the estimate at a point is the flux in the disc over its area,
 // which integrates over the surface to the flux that landed (no excess).
-const Method FixedRadiusPhotonMethod{"photon",
-                                     [](double p, const Scale& s) {
-                                       return "{caustic_photons: " + std::to_string(int(s.photons)) +
-                                              ", global_photons: 100000, final_gather: 1, k: 0, max_radius: " +
-                                              std::to_string(s.radius * p) + "}";
-                                     },
-                                     64, Stratified};
-const Method SppmMethod{"sppm",
-                        [](double p, const Scale& s) {
-                          return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " + std::to_string(s.radius * p) +
-                                 "}";
-                        },
-                        24};
+const ConsistentMethod FixedRadiusPhotonMethod{"photon",
+                                               [](double p, const Scale& s) {
+                                                 return "{caustic_photons: " + std::to_string(int(s.photons)) +
+                                                        ", global_photons: 100000, final_gather: 1, k: 0, max_radius: " +
+                                                        std::to_string(s.radius * p) + "}";
+                                               },
+                                               64, Stratified};
+const ConsistentMethod SppmMethod{"sppm",
+                                  [](double p, const Scale& s) {
+                                    return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " +
+                                           std::to_string(s.radius * p) + "}";
+                                  },
+                                  24};
 
-struct CausticScene {
-  std::string name;
-  int width, height;
-  uint64_t bdptSpp, ltSpp;
-  int seeds;  // of the BDPT reference
-  Scale scale;
-};
-const CausticScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 24, {0.05, 1e6}};
-const CausticScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
-const CausticScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
+const ConsistentScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 24, {0.05, 1e6}};
+const ConsistentScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
+const ConsistentScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
 
-std::vector<bool> causticMask(const SceneFile& sf, const std::string& name, uint64_t ltSpp) {
-  std::vector<bool> caustic = causticPixels(sf, {"light", "{}", ltSpp, 700}, diffusePrimaryHits(*sf.scene));
-  std::printf("%s: %zu caustic pixels\n", name.c_str(), countTrue(caustic));
-  EXPECT_GE(countTrue(caustic), 4u) << name << ": the caustic covers too few pixels to test";
-  return caustic;
-}
-
-struct Setup {
-  const CausticScene* scene;
-  SceneFile sf;
-  std::vector<bool> caustic;
-  SeedMeans bdpt;
-  std::map<std::string, std::unique_ptr<SceneFile>> variants;  // the scene with a method's sceneYaml
-  const SceneFile& variant(const std::string& yaml) {
-    if (yaml.empty()) return sf;
-    std::unique_ptr<SceneFile>& v = variants[yaml];
-    if (!v) v.reset(new SceneFile(loadShippedScene(scene->name, scene->width, scene->height, yaml)));
-    return *v;
-  }
-};
-// One set-up per scene, shared by its tests.
-Setup& setUp(const CausticScene& s) {
-  static std::map<std::string, std::unique_ptr<Setup>> cache;
-  std::unique_ptr<Setup>& out = cache[s.name];
-  if (!out) {
-    out.reset(new Setup{&s, loadShippedScene(s.name, s.width, s.height), {}, {}, {}});
-    out->caustic = causticMask(out->sf, s.name, s.ltSpp);
-    out->bdpt = maskedSeedMeans(out->sf, {"bdpt", "{}", s.bdptSpp, 710}, s.seeds, 1, out->caustic);
-  }
-  return *out;
-}
-
-std::vector<BiasLevel> levels(Setup& s, const Method& m, const std::vector<double>& ps, int seeds) {
-  std::vector<BiasLevel> out;
-  uint64_t seed = 800;
-  const SceneFile& sf = s.variant(m.sceneYaml);
-  for (double p : ps) {
-    out.push_back({p, maskedSeedMeans(sf, {m.integrator, m.params(p, s.scene->scale), m.spp, seed}, seeds, 1, s.caustic)});
-    seed += 1000;
-  }
-  return out;
-}
-
-// A method on a scene: its seeds and the levels of p it is tested at.
-struct Case {
-  const CausticScene& scene;
-  const Method& method;
-  int seeds;
-};
-const Case SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSphere, StratifiedPhotonMethod, 16},
-    SppmRing{MetalRing, SppmMethod, 8}, PhotonRing{MetalRing, PhotonMethod, 24},
-    SppmEnclosed{EnclosedLight, SppmMethod, 3}, PhotonEnclosed{EnclosedLight, PhotonMethod, 8},
-    FixedPhotonGlass{GlassSphere, FixedRadiusPhotonMethod, 8};
-
-void expectConsistent(const Case& c, const std::vector<double>& ps, double coefficient) {
-  Setup& s = setUp(c.scene);
-  std::vector<BiasLevel> l = levels(s, c.method, ps, c.seeds);
-  expectBiasWithinAndShrinking(c.method.integrator + ", " + c.scene.name + " caustic", l, s.bdpt, coefficient, Alpha,
-                               3 * int(l.size()));
-}
+const ConsistentCase SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSphere, StratifiedPhotonMethod, 16},
+    FixedPhotonGlass{GlassSphere, FixedRadiusPhotonMethod, 8}, SppmRing{MetalRing, SppmMethod, 8},
+    PhotonRing{MetalRing, PhotonMethod, 24}, SppmEnclosed{EnclosedLight, SppmMethod, 3},
+    PhotonEnclosed{EnclosedLight, PhotonMethod, 8};
 
 // c from the sweeps (top of the file), rounded up. The levels are the pair
 // whose bias is resolved above the noise in every run seen.
-TEST(ConsistentCaustic, SppmOnTheGlassSphere) { expectConsistent(SppmGlass, {2, 1}, 0.14); }
-TEST(ConsistentCaustic, SppmOnTheMetalRing) { expectConsistent(SppmRing, {2, 1}, 0.035); }
-TEST(ConsistentCaustic, PhotonOnTheGlassSphere) { expectConsistent(PhotonGlass, {2, 0.5}, 0.045); }
-TEST(ConsistentCaustic, PhotonOnTheMetalRing) { expectConsistent(PhotonRing, {2, 0.5}, 0.02); }
-TEST(ConsistentCaustic, SppmOnTheEnclosedLight) { expectConsistent(SppmEnclosed, {2, 1}, 0.025); }
+TEST(ConsistentCaustic, SppmOnTheGlassSphere) { expectConsistent(SppmGlass, {2, 1}, 0.14, Alpha); }
+TEST(ConsistentCaustic, SppmOnTheMetalRing) { expectConsistent(SppmRing, {2, 1}, 0.035, Alpha); }
+TEST(ConsistentCaustic, PhotonOnTheGlassSphere) { expectConsistent(PhotonGlass, {2, 0.5}, 0.045, Alpha); }
+TEST(ConsistentCaustic, PhotonOnTheMetalRing) { expectConsistent(PhotonRing, {2, 0.5}, 0.02, Alpha); }
+TEST(ConsistentCaustic, SppmOnTheEnclosedLight) { expectConsistent(SppmEnclosed, {2, 1}, 0.025, Alpha); }
 // Its bias is not resolved above the noise at any p swept: the allowance only.
-TEST(ConsistentCaustic, PhotonOnTheEnclosedLight) { expectConsistent(PhotonEnclosed, {1}, 0.02); }
+TEST(ConsistentCaustic, PhotonOnTheEnclosedLight) { expectConsistent(PhotonEnclosed, {1}, 0.02, Alpha); }
 
-void sweep(const Case& c) {
-  printBiasSweep(c.method.integrator + ", " + c.scene.name + " caustic",
-                 levels(setUp(c.scene), c.method, {2, 1, 0.5, 0.25}, c.seeds), setUp(c.scene).bdpt);
-}
-TEST(ConsistentCaustic, DISABLED_SppmGlassSphereBiasSweep) { sweep(SppmGlass); }
-TEST(ConsistentCaustic, DISABLED_PhotonGlassSphereBiasSweep) { sweep(PhotonGlass); }
-TEST(ConsistentCaustic, DISABLED_FixedRadiusPhotonGlassSphereBiasSweep) { sweep(FixedPhotonGlass); }
-TEST(ConsistentCaustic, DISABLED_SppmMetalRingBiasSweep) { sweep(SppmRing); }
-TEST(ConsistentCaustic, DISABLED_PhotonMetalRingBiasSweep) { sweep(PhotonRing); }
-TEST(ConsistentCaustic, DISABLED_SppmEnclosedLightBiasSweep) { sweep(SppmEnclosed); }
-TEST(ConsistentCaustic, DISABLED_PhotonEnclosedLightBiasSweep) { sweep(PhotonEnclosed); }
+TEST(ConsistentCaustic, DISABLED_SppmGlassSphereBiasSweep) { printSweep(SppmGlass); }
+TEST(ConsistentCaustic, DISABLED_PhotonGlassSphereBiasSweep) { printSweep(PhotonGlass); }
+TEST(ConsistentCaustic, DISABLED_FixedRadiusPhotonGlassSphereBiasSweep) { printSweep(FixedPhotonGlass); }
+TEST(ConsistentCaustic, DISABLED_SppmMetalRingBiasSweep) { printSweep(SppmRing); }
+TEST(ConsistentCaustic, DISABLED_PhotonMetalRingBiasSweep) { printSweep(PhotonRing); }
+TEST(ConsistentCaustic, DISABLED_SppmEnclosedLightBiasSweep) { printSweep(SppmEnclosed); }
+TEST(ConsistentCaustic, DISABLED_PhotonEnclosedLightBiasSweep) { printSweep(PhotonEnclosed); }
 
 }  // namespace
 }  // namespace lb::test
