@@ -4,7 +4,7 @@
 #include "core/bsdfs/bsdf.h"
 #include "core/image.h"
 #include "integrators/direct_light.h"
-#include "integrators/photon/photon_tracing.h"
+#include "integrators/photon_map/photon_tracing.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {

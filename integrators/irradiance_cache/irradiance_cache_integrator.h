@@ -39,7 +39,7 @@
 #include "integrators/irradiance_cache/irradiance_cache.h"
 #include "integrators/path/path_tracer.h"
 #include "integrators/path_length.h"
-#include "integrators/photon/photon_integrator.h"
+#include "integrators/photon_map/photon_map_settings.h"
 
 namespace lb {
 

@@ -27,25 +27,9 @@
 // shrink.
 #include "core/params.h"
 #include "integrators/integrator.h"
-#include "integrators/photon/photon_map.h"
+#include "integrators/photon_map/photon_map_settings.h"
 
 namespace lb {
-
-// The photon maps' keys, shared with the irradiance cache's photon records:
-// global_photons, caustic_photons, k, max_radius.
-struct PhotonMapSettings {
-  size_t globalPhotons = 200000, causticPhotons = 200000;
-  DensityQuery query;
-  float maxRadius = 0;  // 0: automatic, 5% of the scene's bounding radius
-  std::string file, key;  // where global_photons was given, for the memory check's message
-  int line = 0;
-  static PhotonMapSettings read(Params& p);
-  DensityQuery queryFor(const Scene& scene) const;
-  // Refuses (ConfigError naming global_photons) maps that would not fit in the
-  // memory available: a pilot of 4096 photon paths measures photons stored
-  // per path on this scene, extrapolated to the requested counts.
-  void checkMemory(const Scene& scene, uint64_t seed, int maxBounces) const;
-};
 
 struct PhotonSettings : PhotonMapSettings {
   int finalGather = 8;
@@ -73,10 +57,5 @@ class PhotonMapper final : public PixelIntegrator {
   PhotonMap global_, caustic_;
   const Scene* scene_ = nullptr;
 };
-
-// Builds a photon map from `paths` photon paths; `causticOnly` keeps only
-// photons at the end of a specular chain (L S+ D). Deterministic for a seed.
-PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int maxBounces, bool causticOnly,
-                         uint64_t* rays = nullptr);
 
 }  // namespace lb

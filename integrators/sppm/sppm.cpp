@@ -4,8 +4,8 @@
 #include "core/bsdfs/bsdf.h"
 #include "integrators/direct_light.h"
 #include "integrators/pixel_tiles.h"
-#include "integrators/photon/photon_map.h"
-#include "integrators/photon/photon_tracing.h"
+#include "integrators/photon_map/photon_map.h"
+#include "integrators/photon_map/photon_tracing.h"
 
 namespace lb {
 

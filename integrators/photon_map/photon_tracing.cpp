@@ -1,4 +1,4 @@
-#include "integrators/photon/photon_tracing.h"
+#include "integrators/photon_map/photon_tracing.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "integrators/photon/photon_map.h"
+#include "integrators/photon_map/photon_map.h"
 #include <chrono>
 #include <cmath>
 #include <cstdint>
