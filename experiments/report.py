@@ -41,6 +41,9 @@ def read_log(path):
                 r["repeat"] = int(r["repeat"])
                 r["nonfinite"] = int(r["nonfinite"])
                 r["final"] = r["final"] == "1"
+                # Time past the budget (a preprocess or pass longer than the
+                # budget, issue 11); logs written before the column read 0.
+                r["over_budget_s"] = float(r.get("over_budget_s") or 0)
                 rows.append(r)
             except (ValueError, KeyError):
                 continue  # a torn last line of an interrupted run
@@ -168,6 +171,7 @@ def summary(labels):
             integrator=finals[0]["integrator"], rmse=mean("rmse"), rmse_sd=sd, relmse=mean("relmse"),
             mape=mean("mape"), variance=mean("variance"), time=mean("time_s"), spp=mean("spp"),
             preprocess=mean("preprocess_s"), nonfinite=sum(f["nonfinite"] for f in finals), repeats=n,
+            over_budget=max(f["over_budget_s"] for f in finals),
             efficiency=sum(1 / (f["rmse"] ** 2 * f["time_s"]) for f in finals if f["rmse"] > 0 and f["time_s"] > 0) / n,
         )
     # "Time to reach the best final error" compares like with like: every
@@ -225,6 +229,10 @@ def write_report(run_dir, grouped, plots, meta):
         floor_text = (f" Its own noise (sqrt of its mean per-pixel variance) is {floor:.3g}: every measured MSE includes "
                       f"its square, so RMSE cannot be seen to fall below it." if floor else "")
         parts.append(f"<p>Reference: {html.escape(ref)}.{floor_text} Best final RMSE: <b>{html.escape(best)}</b>.</p>")
+        over = {label: t["over_budget"] for label, t in table.items() if t["over_budget"] > 0}
+        if over:
+            parts.append("<p><b>Over budget</b> (not an equal-time comparison for these; the table's last column): "
+                         + html.escape(", ".join(f"{l} by {v:.3g} s" for l, v in sorted(over.items()))) + ".</p>")
         for name in ("rmse_vs_time", "rmse_vs_spp", "efficiency"):
             if name in plots.get(scene, {}):
                 parts.append(f"<img src='{data_uri(plots[scene][name])}' style='max-width:680px'>")
@@ -237,7 +245,8 @@ def write_report(run_dir, grouped, plots, meta):
             "<table><tr><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th>"
             + "".join(f"<th>{c[1]}</th>" for c in columns)
             + "<th>time s</th><th>preprocess s</th><th>spp</th>"
-            "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/Inf</th></tr>"
+            "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/Inf</th>"
+            + ("<th>over budget s</th>" if over else "") + "</tr>"
         )
         for label, t in sorted(table.items(), key=lambda kv: kv[1]["rmse"]):
             reach = f"{t['time_to_best']:.3g} s" if t["time_to_best"] is not None else "not reached"
@@ -247,7 +256,8 @@ def write_report(run_dir, grouped, plots, meta):
                 + "".join(f"<td>{c[2].format(t[c[0]])}</td>" for c in columns)
                 + f"<td>{t['time']:.3g}</td><td>{t['preprocess']:.3g}</td>"
                 f"<td>{t['spp']:.0f}</td><td>{reach}</td><td>{t['relative_efficiency']:.3g}</td>"
-                f"<td>{t['nonfinite']}</td></tr>"
+                f"<td>{t['nonfinite']}</td>"
+                + (f"<td>{t['over_budget']:.3g}</td>" if over else "") + "</tr>"
             )
         parts.append("</table>")
         crop = scenes_meta.get(scene, {}).get("crop")
