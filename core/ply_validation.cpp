@@ -131,7 +131,8 @@ Property parseProperty(const std::string& path, uint64_t line, const std::vector
     p.countType = findType(t[2]);
     if (!p.countType) failAt(path, line, "unknown list count type " + shown(t[2]));
     if (e.name != "face" || !isOneOf(p.name, {"vertex_indices", "vertex_index"}))
-      failAt(path, line, "list property " + shown(p.name) + " is not supported (only face vertex_indices)");
+      failAt(path, line, "list property " + shown(p.name) + " in element " + shown(e.name) +
+                             " is not supported (only face vertex_indices)");
     if (!isOneOf(t[2], {"uchar", "uint8", "uint16", "int"}))
       failAt(path, line, "list count type " + shown(t[2]) + " is not supported (use uchar, uint8, uint16 or int)");
     if (p.type->isFloat) failAt(path, line, "vertex indices of type " + shown(t[3]) + " (need an integer type)");

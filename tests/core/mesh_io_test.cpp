@@ -118,7 +118,7 @@ TEST(MeshBadFileTest, ListPropertiesOtherThanFaceIndicesAreRefused) {
   std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                     "property list uchar float extra\nelement face 1\nproperty list uchar int vertex_indices\n"
                     "end_header\n0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n";
-  EXPECT_NE(loadError(writeFile("vertex_list.ply", ply)).find("list property 'extra' is not supported"),
+  EXPECT_NE(loadError(writeFile("vertex_list.ply", ply)).find("list property 'extra' in element 'vertex' is not supported"),
             std::string::npos);
 }
 
