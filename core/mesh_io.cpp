@@ -3,6 +3,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <stdexcept>
 #include "core/mesh_validation.h"
@@ -48,6 +49,7 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
   for (auto& c : ext) c = char(std::tolower(c));
   if (ext != ".obj" && ext != ".ply") throw std::runtime_error("unsupported mesh format (use .obj or .ply): " + path);
   if (std::filesystem::file_size(path, ec) == 0) throw std::runtime_error(path + ": file is empty");
+  if (!std::ifstream(path)) throw std::runtime_error(path + ": cannot open the file (permissions?)");
   // OpenMesh trusts its input (see mesh_validation.h): check the structure first.
   if (ext == ".ply") validatePlyFile(path);
   else validateObjFile(path);

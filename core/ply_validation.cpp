@@ -201,7 +201,7 @@ Header parseHeader(const std::string& path) {
     std::vector<std::string> t = tokensOf(text);
     size_t lastTokenEnd = lineStart + text.find_last_not_of(" \t\v\f\r") + 1;
     if (line == 1) {
-      if (text != "ply") failAt(path, 0, "not a PLY file (first line is not 'ply')");
+      if (t.size() != 1 || t[0] != "ply") failAt(path, 0, "not a PLY file (first line is not 'ply')");
       continue;
     }
     if (line == 2) {

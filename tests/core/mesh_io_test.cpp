@@ -151,12 +151,15 @@ TEST(MeshValidFile, AsciiPlyWithCommentsAndCrlf) {
   EXPECT_EQ(loadMesh(writeFile("valid_ascii.ply", ply), Mat4(1.f), false).mesh.triangles.size(), 2u);
 }
 
-// A binary PLY with a quad and a triangle, in either byte order.
-std::string binaryPly(bool bigEndian) {
+// A binary PLY with a quad and a triangle, in either byte order, its header
+// lines ending in "\n" or "\r\n".
+std::string binaryPly(bool bigEndian, bool crlf = false) {
   std::string out = std::string("ply\nformat ") + (bigEndian ? "binary_big_endian" : "binary_little_endian") +
                     " 1.0\ncomment written by mesh_io_test\nelement vertex 5\nproperty float x\nproperty float y\n"
                     "property float z\nproperty uchar red\nelement face 2\nproperty list uchar int vertex_indices\n"
                     "end_header\n";
+  if (crlf)
+    for (size_t at = 0; (at = out.find('\n', at)) != std::string::npos; at += 2) out.insert(at, "\r");
   auto put = [&](const void* p, size_t n) {
     std::string bytes(static_cast<const char*>(p), n);
     if (bigEndian) bytes.assign(bytes.rbegin(), bytes.rend());
@@ -181,6 +184,9 @@ TEST(MeshValidFile, BinaryPlyBothByteOrders) {
     EXPECT_EQ(r.mesh.positions.size(), 5u) << bigEndian;
     EXPECT_EQ(r.mesh.positions[2], Vec3(1, 1, 0)) << bigEndian;
   }
+  MeshLoadResult crlf = loadMesh(writeFile("crlf.ply", binaryPly(false, true)), Mat4(1.f), false);
+  EXPECT_EQ(crlf.mesh.triangles.size(), 3u);
+  EXPECT_EQ(crlf.mesh.positions[2], Vec3(1, 1, 0));
 }
 
 }  // namespace
