@@ -183,6 +183,9 @@ void checkElements(const std::string& path, const Header& h) {
         failAt(path, e.line, "binary property " + shown(p.name) + " must be float or double");
 }
 
+// Far above any real header; stops a binary file without newlines being read whole.
+constexpr size_t kMaxHeader = size_t(1) << 20;
+
 Header parseHeader(const std::string& path) {
   Bytes in(path, 0);
   Header h;
@@ -192,11 +195,11 @@ Header parseHeader(const std::string& path) {
     uint64_t lineStart = header.size();
     std::string text;
     int c;
-    while ((c = in.get()) >= 0 && c != '\n') text += char(c);
+    while ((c = in.get()) >= 0 && c != '\n' && header.size() + text.size() <= kMaxHeader) text += char(c);
     header += text;
+    if (header.size() > kMaxHeader) failAt(path, 0, "PLY header longer than 1 MB (no end_header?)");
     if (c < 0) failAt(path, 0, "PLY header has no end_header");
     header += '\n';
-    if (header.size() > (1u << 20)) failAt(path, 0, "PLY header longer than 1 MB (no end_header?)");
     if (!text.empty() && text.back() == '\r') text.pop_back();
     std::vector<std::string> t = tokensOf(text);
     size_t lastTokenEnd = lineStart + text.find_last_not_of(" \t\v\f\r") + 1;
