@@ -1,9 +1,12 @@
 #include "core/mesh_io.h"
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <stdexcept>
+#include "core/mesh_validation.h"
 
 namespace lb {
 
@@ -26,32 +29,39 @@ size_t transformMesh(TriangleMesh& m, const Mat4& toWorld) {
   return dropped;
 }
 
-// OpenMesh 9.0's PLY reader loops forever on a header that never reaches
-// "end_header"; refuse such files before handing them over.
-void checkPlyHeader(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(in, line) || line.rfind("ply", 0) != 0)
-    throw std::runtime_error("cannot read mesh file (not a PLY file): " + path);
-  for (int lines = 0; lines < 10000 && std::getline(in, line); ++lines)
-    if (line.rfind("end_header", 0) == 0) return;
-  throw std::runtime_error("cannot read mesh file (PLY header has no end_header): " + path);
+// OpenMesh writes its own warnings to stderr (omerr/omout/omlog); the user
+// should see only our one-line error, so its logging is switched off once.
+static void silenceOpenMesh() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    omerr().disable();
+    omout().disable();
+    omlog().disable();
+  });
 }
 
 MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoothNormals) {
-  if (!std::filesystem::exists(path)) throw std::runtime_error("mesh file not found: " + path);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw std::runtime_error("mesh file not found: " + path);
+  // A directory, FIFO or device would be read forever or not at all.
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path + ": not a regular file");
   std::string ext = std::filesystem::path(path).extension().string();
   for (auto& c : ext) c = char(std::tolower(c));
   if (ext != ".obj" && ext != ".ply") throw std::runtime_error("unsupported mesh format (use .obj or .ply): " + path);
-  if (ext == ".ply") checkPlyHeader(path);
+  if (std::filesystem::file_size(path, ec) == 0) throw std::runtime_error(path + ": file is empty");
+  if (!std::ifstream(path)) throw std::runtime_error(path + ": cannot open the file (permissions?)");
+  // OpenMesh trusts its input (see mesh_validation.h): check the structure first.
+  if (ext == ".ply") validatePlyFile(path);
+  else validateObjFile(path);
+  silenceOpenMesh();
   OMesh om;
   om.request_vertex_normals();
   om.request_vertex_texcoords2D();
   OpenMesh::IO::Options options;
   options += OpenMesh::IO::Options::VertexNormal;
   options += OpenMesh::IO::Options::VertexTexCoord;
-  if (!OpenMesh::IO::read_mesh(om, path, options)) throw std::runtime_error("cannot read mesh file: " + path);
-  if (om.n_faces() == 0) throw std::runtime_error("mesh has no faces: " + path);
+  if (!OpenMesh::IO::read_mesh(om, path, options)) throw std::runtime_error(path + ": the mesh reader could not read the file");
+  if (om.n_faces() == 0) throw std::runtime_error(path + ": no faces (all faces were degenerate or non-manifold)");
   bool hasNormals = options.check(OpenMesh::IO::Options::VertexNormal);
   if (!hasNormals && smoothNormals) {
     om.request_face_normals();

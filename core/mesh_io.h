@@ -11,7 +11,8 @@ struct MeshLoadResult {
   size_t degenerateTriangles = 0;
 };
 
-// Throws std::runtime_error with a reason if the file is missing or unreadable.
+// Throws std::runtime_error with a one-line reason ("file:line: what") if the
+// file is missing, unreadable or malformed (checked before OpenMesh reads it).
 MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoothNormals);
 // Transforms a mesh in place (normals by the inverse transpose) and drops
 // zero-area triangles.
