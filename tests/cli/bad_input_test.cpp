@@ -206,4 +206,48 @@ TEST_F(BadInput, MissingSceneFile) {
   expectError(render((dir_ / "absent.yaml").string()), "absent.yaml", "", "cannot open");
 }
 
+// `[a, b]: 1` used to end in yaml-cpp's "bad conversion", exit 1, no location.
+TEST_F(BadInput, KeyThatIsNotAName) {
+  expectError(render(write("s.yaml", scene("", "[a, b]: 1\n"))), "s.yaml:5", "", "a key must be a plain name, got a sequence");
+  expectError(render(write("t.yaml", scene("", "? {x: 1}\n: 2\n"))), "t.yaml:5", "", "got a mapping");
+  expectError(render(write("u.yaml", scene("", "") + "integrator: {name: path, [1]: 2}\n")), "u.yaml:8", "integrator",
+              "a key must be a plain name");
+}
+
+TEST_F(BadInput, ValueOfTheWrongShape) {
+  expectError(render(write("s.yaml", scene("", "") + "integrator: {name: [path]}\n")), "s.yaml:8", "integrator.name",
+              "expected a string, got a sequence");
+  std::string film = scene("");
+  film.replace(film.find("{width: 8"), 9, "{width: {w: 8}");
+  expectError(render(write("t.yaml", film)), "t.yaml:2", "film.width", "expected an integer, got a mapping");
+  expectError(render(write("u.yaml", scene("  - {type: sphere, radius: [1]}"))), "u.yaml:7", "radius",
+              "expected a number, got a sequence");
+}
+
+// The second of two equal keys used to win silently.
+TEST_F(BadInput, KeyGivenTwice) {
+  expectError(render(write("s.yaml", scene("", "film: {width: 4, height: 4}\n"))), "s.yaml:5", "'film'",
+              "given twice (first at line 2)");
+  expectError(render(write("t.yaml", scene("", "") + "integrator: {name: path,\n  max_depth: 3, max_depth: 4}\n")),
+              "t.yaml:9", "integrator.max_depth", "given twice (first at line 9)");
+  expectError(render(write("u.yaml", scene("  - {type: sphere, radius: 1, radius: 2}"))), "u.yaml:7",
+              "shapes[1].radius", "given twice");
+}
+
+// Used to fail with exit 1 and "basic_filebuf::underflow".
+TEST_F(BadInput, ScenePathIsADirectory) {
+  fs::create_directories(dir_ / "scene.yaml");
+  expectError(render((dir_ / "scene.yaml").string()), "scene.yaml", "", "is a directory");
+}
+
+// Used to end in std::bad_alloc after building the scene; the estimate is
+// refused before any pixel is allocated.
+TEST_F(BadInput, FilmTooLargeForMemory) {
+  std::string text = scene("");
+  text.replace(text.find("{width: 8, height: 8}"), 21, "{width: 1000000, height: 1000000}");
+  RunResult r = render(write("s.yaml", text));
+  expectError(r, "s.yaml:2", "film.width", "GiB");
+  EXPECT_NE(r.err.find("1000000 x 1000000 film"), std::string::npos) << r.err;
+}
+
 }  // namespace
