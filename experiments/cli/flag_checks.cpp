@@ -43,7 +43,7 @@ CLI::Validator intInRange(long long minimum, long long maximum, const std::strin
                  what + ")" + got(text);
         return std::string();
       },
-      "in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]");
+      ">= " + std::to_string(minimum));
 }
 
 CLI::Validator positiveFinite(const std::string& what) {
