@@ -121,7 +121,11 @@ TEST_F(BadFlag, OutputFolderIsCheckedBeforeRendering) {
   expectFlagError(run("render " + broken + " -q --spp 1 -o " + file + "/o.exr"), "--output", "not a folder");
   expectFlagError(run("render " + broken + " -q --spp 1 -o " + (dir_ / "out" / "none" / "o.exr").string()),
                   "--output", "folder does not exist");
+}
+
+TEST_F(BadFlag, UnwritableOutputFolderIsFoundBeforeRendering) {
   if (::geteuid() == 0) GTEST_SKIP() << "root can write to a read-only folder";
+  std::string broken = write("broken.yaml", scene("  - {type: sphere, radius: 1, materail: white}"));
   fs::create_directories(dir_ / "out" / "ro");
   ::chmod((dir_ / "out" / "ro").c_str(), 0555);
   RunResult r = run("render " + broken + " -q --spp 1 -o " + (dir_ / "out" / "ro" / "o.exr").string());
