@@ -1,6 +1,8 @@
 #include "core/params.h"
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <iostream>
 
 namespace lb {
@@ -13,6 +15,18 @@ Params::Params(YAML::Node node, std::string file, std::string context)
     throw ConfigError(file_, node_.Mark().line + 1, context_, "expected a mapping of key: value");
 }
 
+namespace {
+// What a node is, for "expected X, got Y" messages.
+std::string shapeOf(const YAML::Node& n) {
+  if (n.IsSequence()) return "a sequence";
+  if (n.IsMap()) return "a mapping";
+  if (n.IsNull()) return "nothing";
+  return "'" + n.Scalar() + "'";
+}
+// A mapping key as text; non-scalar keys (checked at load time) never match.
+std::string keyText(const YAML::Node& k) { return k.IsScalar() ? k.Scalar() : std::string(); }
+}  // namespace
+
 std::string Params::qualified(const std::string& key) const {
   return context_.empty() ? key : context_ + "." + key;
 }
@@ -20,7 +34,7 @@ std::string Params::qualified(const std::string& key) const {
 int Params::line(const std::string& key) const {
   if (node_ && node_.IsMap())
     for (auto it = node_.begin(); it != node_.end(); ++it)
-      if (it->first.as<std::string>() == key) {
+      if (keyText(it->first) == key) {
         // Keys of a rebuilt mapping (e.g. integrator parameters merged with
         // --set) have no position; their values keep the file's.
         int l = it->first.Mark().line >= 0 ? it->first.Mark().line : it->second.Mark().line;
@@ -40,7 +54,7 @@ YAML::Node Params::lookup(const std::string& key) {
   asked_.insert(key);
   if (!node_ || !node_.IsMap()) return YAML::Node();
   for (auto it = node_.begin(); it != node_.end(); ++it)
-    if (it->first.as<std::string>() == key) return it->second;
+    if (keyText(it->first) == key) return it->second;
   return YAML::Node();
 }
 
@@ -52,7 +66,7 @@ bool Params::has(const std::string& key) {
 float Params::toFloat(const YAML::Node& n, const std::string& key) const {
   float v = 0;
   try {
-    if (!n.IsScalar()) fail(key, "expected a number");
+    if (!n.IsScalar()) fail(key, "expected a number, got " + shapeOf(n));
     v = n.as<float>();
   } catch (const YAML::Exception&) {
     fail(key, "expected a number, got '" + n.Scalar() + "'");
@@ -64,7 +78,8 @@ float Params::toFloat(const YAML::Node& n, const std::string& key) const {
 Vec3 Params::toVec3(const YAML::Node& n, const std::string& key, bool allowScalar) const {
   if (allowScalar && n.IsScalar()) return Vec3(toFloat(n, key));
   if (!n.IsSequence() || n.size() != 3)
-    fail(key, allowScalar ? "expected a number or a list of 3 numbers" : "expected a list of 3 numbers");
+    fail(key, std::string(allowScalar ? "expected a number or a list of 3 numbers" : "expected a list of 3 numbers") +
+                  ", got " + (n.IsSequence() ? "a list of " + std::to_string(n.size()) : shapeOf(n)));
   return {toFloat(n[0], key), toFloat(n[1], key), toFloat(n[2], key)};
 }
 
@@ -84,7 +99,7 @@ int Params::getInt(const std::string& key, int fallback) {
     if (n.IsScalar()) return record(key, n.as<int>());
   } catch (const YAML::Exception&) {
   }
-  fail(key, "expected an integer, got '" + (n.IsScalar() ? n.Scalar() : std::string("a non-scalar")) + "'");
+  fail(key, "expected an integer, got " + shapeOf(n));
 }
 
 bool Params::getBool(const std::string& key, bool fallback) {
@@ -94,13 +109,13 @@ bool Params::getBool(const std::string& key, bool fallback) {
     if (n.IsScalar()) return record(key, n.as<bool>());
   } catch (const YAML::Exception&) {
   }
-  fail(key, "expected true or false");
+  fail(key, "expected true or false, got " + shapeOf(n));
 }
 
 std::string Params::getString(const std::string& key, const std::string& fallback) {
   YAML::Node n = lookup(key);
   if (!n || n.IsNull()) return record(key, fallback);
-  if (!n.IsScalar()) fail(key, "expected a string");
+  if (!n.IsScalar()) fail(key, "expected a string, got " + shapeOf(n));
   return record(key, n.Scalar());
 }
 std::string Params::requireString(const std::string& key) {
@@ -140,7 +155,7 @@ Color Params::requireColor(const std::string& key) {
 std::optional<Params> Params::getChild(const std::string& key) {
   YAML::Node n = lookup(key);
   if (!n || n.IsNull()) return std::nullopt;
-  if (!n.IsMap()) fail(key, "expected a mapping of key: value");
+  if (!n.IsMap()) fail(key, "expected a mapping of key: value, got " + shapeOf(n));
   return Params(n, file_, qualified(key));
 }
 
@@ -148,7 +163,7 @@ std::vector<Params> Params::getList(const std::string& key) {
   YAML::Node n = lookup(key);
   std::vector<Params> out;
   if (!n || n.IsNull()) return out;
-  if (!n.IsSequence()) fail(key, "expected a list");
+  if (!n.IsSequence()) fail(key, "expected a list, got " + shapeOf(n));
   for (size_t i = 0; i < n.size(); ++i) {
     std::string ctx = qualified(key) + "[" + std::to_string(i) + "]";
     if (!n[i].IsMap()) throw ConfigError(file_, n[i].Mark().line + 1, ctx, "expected a mapping of key: value");
@@ -161,7 +176,9 @@ void Params::checkUnused() const {
   if (!node_ || !node_.IsMap()) return;
   std::vector<std::string> known(asked_.begin(), asked_.end());
   for (auto it = node_.begin(); it != node_.end(); ++it) {
-    std::string key = it->first.as<std::string>();
+    if (!it->first.IsScalar())
+      throw ConfigError(file_, it->first.Mark().line + 1, context_, "a key must be a plain name, got " + shapeOf(it->first));
+    std::string key = it->first.Scalar();
     if (asked_.count(key)) continue;
     std::string hint = closestMatch(key, known);
     fail(key, "unknown key" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"));
@@ -192,14 +209,40 @@ std::string closestMatch(const std::string& word, const std::vector<std::string>
   return best;
 }
 
+void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context) {
+  if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) checkMappings(node[i], file, context + "[" + std::to_string(i) + "]");
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> firstLine;
+  for (auto it = node.begin(); it != node.end(); ++it) {
+    const YAML::Node& k = it->first;
+    int line = k.Mark().line + 1;
+    if (!k.IsScalar())
+      throw ConfigError(file, line, context, "a key must be a plain name, got " + shapeOf(k));
+    std::string name = context.empty() ? k.Scalar() : context + "." + k.Scalar();
+    auto [first, fresh] = firstLine.emplace(k.Scalar(), line);
+    if (!fresh) throw ConfigError(file, line, name, "given twice (first at line " + std::to_string(first->second) + ")");
+    checkMappings(it->second, file, name);
+  }
+}
+
 YAML::Node loadYamlFile(const std::string& path) {
+  // An ifstream opens a directory and fails only when read, with
+  // "basic_filebuf::underflow".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ConfigError(path, 0, "", "is a directory, not a YAML file");
   std::ifstream in(path);
   if (!in) throw ConfigError(path, 0, "", "cannot open file");
+  YAML::Node root;
   try {
-    return YAML::Load(in);
+    root = YAML::Load(in);
   } catch (const YAML::ParserException& e) {
     throw ConfigError(path, e.mark.line + 1, "", "malformed YAML: " + e.msg);
   }
+  checkMappings(root, path, "");
+  return root;
 }
 
 }  // namespace lb

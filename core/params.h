@@ -81,6 +81,11 @@ class Params {
 std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);
 
 // Loads a YAML file; malformed YAML becomes a ConfigError at the parser's line.
+// The loaded document has passed checkMappings().
 YAML::Node loadYamlFile(const std::string& path);
+// Every mapping in `node`, at any depth: keys are plain scalars (not `[a, b]:`
+// or `? {x: 1}`) and none is given twice (yaml-cpp keeps both silently).
+// `context` prefixes the key paths in messages ("" at the top).
+void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context);
 
 }  // namespace lb

@@ -1,5 +1,8 @@
 #include "core/scene_loader.h"
+#include <unistd.h>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
 #include "core/bsdfs/material_factory.h"
@@ -170,6 +173,35 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
   p.checkUnused();
 }
 
+// Bytes the OS can still give us (MemAvailable), or all physical memory.
+// (The photon map's memory check reads the same figure.)
+double availableMemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (meminfo >> key >> kib)
+    if (key == "MemAvailable:") return kib * 1024;
+  return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+}
+
+// A film too large for memory would otherwise fail with std::bad_alloc, after
+// the scene is built. Per pixel (core/film.h): four dvec3 accumulators (sum,
+// sum of squares, pass sum, pass sum of squares) and a 64-bit sample count;
+// a splatting integrator's PassImage (one dvec3); and the float image written
+// at the end. Integrators' own per-pixel data come on top.
+void checkFilmMemory(Params& film, int width, int height) {
+  const double bytesPerPixel = 5 * sizeof(glm::dvec3) + sizeof(uint64_t) + sizeof(Color);
+  const double bytes = double(width) * double(height) * bytesPerPixel;
+  const double limit = 0.9 * availableMemoryBytes();
+  if (bytes <= limit) return;
+  char msg[256];
+  std::snprintf(msg, sizeof msg,
+                "a %d x %d film needs about %.3g GiB (%.0f bytes per pixel), more than 90%% of the %.1f GiB of "
+                "memory available; lower film.width/height",
+                width, height, bytes / (1 << 30), bytesPerPixel, limit / 0.9 / (1 << 30));
+  film.fail(width >= height ? "width" : "height", msg);
+}
+
 void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   int width = 256, height = 256;
   if (auto film = root.getChild("film")) {
@@ -177,6 +209,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
     height = film->getInt("height", height);
     if (width <= 0) film->fail("width", "must be positive");
     if (height <= 0) film->fail("height", "must be positive");
+    checkFilmMemory(*film, width, height);
     film->checkUnused();
   }
   auto cam = root.getChild("camera");
@@ -263,6 +296,7 @@ SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtua
   } catch (const YAML::ParserException& e) {
     throw ConfigError(virtualPath, e.mark.line + 1, "", "malformed YAML: " + e.msg);
   }
+  checkMappings(root, virtualPath, "");
   return loadFromNode(root, virtualPath);
 }
 

@@ -1,7 +1,9 @@
 // Command-line front end (CLI11): `lightbench render`, `lightbench integrators`.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <limits>
 #include "experiments/cli/commands.h"
+#include "experiments/cli/flag_checks.h"
 #include "core/error.h"
 #include "integrators/registry.h"
 
@@ -13,6 +15,9 @@ int withErrorExitCodes(const std::function<int()>& body) {
   } catch (const ConfigError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory (std::bad_alloc)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
@@ -32,23 +37,34 @@ int lightbenchMain(int argc, char** argv) {
   render->add_option("scene", r.scene, "Scene file (YAML)")->required();
   render->add_option("--integrator", r.integrator, "Integrator name (default: the scene's, else 'path'); see 'lightbench integrators'");
   render->add_option("--set", r.overrides, "Integrator parameter override key=value (repeatable), e.g. --set mis=balance");
-  auto* spp = render->add_option("--spp", r.spp, "Samples per pixel (default 16 when no --time is given)");
-  render->add_option("--time", r.seconds, "Time budget in seconds, preprocessing included")->excludes(spp);
-  render->add_option("--seed", r.seed, "Random seed; the same seed gives the same image bit for bit at any thread count");
-  render->add_option("--threads", r.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  render->add_option("-o,--output", r.output, "Output EXR path (default: <scene name>.exr); the PNG and <name>.config.yaml go beside it");
-  render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing");
-  render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)");
+  // Every value is checked as typed (flag_checks.h): 0, negative, NaN or
+  // infinite budgets would render the default or forever.
+  auto* spp = render->add_option("--spp", r.spp, "Samples per pixel (default 16 when no --time is given)")
+                  ->check(unsignedInteger(1, "samples per pixel"));
+  render->add_option("--time", r.seconds, "Time budget in seconds, preprocessing included")
+      ->excludes(spp)
+      ->check(positiveFinite("seconds"));
+  render->add_option("--seed", r.seed, "Random seed; the same seed gives the same image bit for bit at any thread count")
+      ->check(unsignedInteger(0, "random seed"));
+  render->add_option("--threads", r.threads, "Worker threads (default: all cores)")
+      ->check(intInRange(0, std::numeric_limits<int>::max(), "worker threads, 0: all cores"));
+  render->add_option("-o,--output", r.output, "Output EXR path (default: <scene name>.exr); the PNG and <name>.config.yaml go beside it")
+      ->check(exrFileName());
+  render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing")
+      ->check(pixelCoordinates());
+  render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)")
+      ->check(intInRange(0, std::numeric_limits<long long>::max(), "sample index"));
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveFinite(""));
 
   RunArgs run;
   CLI::App* runCmd = app.add_subcommand("run", "Run an experiment: every configuration against a reference, error vs time logged, plotted and reported.");
   runCmd->add_option("experiment", run.experiment, "Experiment file (YAML), e.g. experiments/quickstart.yaml")->required();
   runCmd->add_flag("--quick", run.quick, "A quarter of the budget and reference samples, one repeat; integrators not built yet are skipped with a warning");
   runCmd->add_flag("--resume", run.resume, "Continue the latest run of this experiment: finished runs are kept, unfinished ones redone");
-  runCmd->add_option("--jobs", run.jobs, "Runs at once, each with cores/jobs threads (default 1: one run on all cores, the honest setting for timings)")->check(CLI::PositiveNumber);
+  runCmd->add_option("--jobs", run.jobs, "Runs at once, each with cores/jobs threads (default 1: one run on all cores, the honest setting for timings)")
+      ->check(intInRange(1, std::numeric_limits<int>::max(), "runs at once"));
   runCmd->add_option("--results", run.results, "Folder for run outputs and cached references (default: results)");
   runCmd->add_flag("--no-report", run.noReport, "Skip the plots and HTML report");
 
@@ -57,8 +73,14 @@ int lightbenchMain(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    // --help and --version are "errors" with exit code 0.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    // One line, like every other bad input (CLI11's own exit() adds a second).
+    std::string message = e.what();
+    for (char& c : message)
+      if (c == '\n') c = ' ';
+    std::cerr << "error: " << message << "\n";
+    return 2;
   }
   if (app.got_subcommand("integrators")) {
     for (const auto& e : integratorRegistry()) std::cout << e.name << "\t" << e.summary << "\n";

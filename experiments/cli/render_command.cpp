@@ -2,11 +2,13 @@
 // configuration, print a summary. Output files appear only after a complete
 // render, each through a temporary name and a rename.
 #include <tbb/global_control.h>
+#include <unistd.h>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 #include "core/scene_loader.h"
 #include "experiments/cli/commands.h"
+#include "experiments/cli/flag_checks.h"
 #include "integrators/registry.h"
 #include "integrators/render_loop.h"
 
@@ -23,12 +25,34 @@ struct IntegratorChoice {
   int line = 0;
 };
 
+// Errors about a flag name the flag, not the scene file.
+ConfigError flagError(const std::string& flag, const std::string& message) {
+  return ConfigError("command line", 0, flag, message);
+}
+
+void checkIntegratorName(const std::string& name) {
+  std::vector<std::string> names;
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) return;
+    else names.push_back(e.name);
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  std::string hint = closestMatch(name, names);
+  throw flagError("--integrator", "unknown integrator '" + name + "' (available: " + list + ")" +
+                                      (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+}
+
 IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
   IntegratorChoice c;
   std::string sceneName = "path";
   if (sf.integrator) {
-    if (sf.integrator["name"]) sceneName = sf.integrator["name"].as<std::string>();
     c.line = sf.integrator.Mark().line + 1;
+    if (YAML::Node n = sf.integrator["name"]) {
+      if (!n.IsScalar())
+        throw ConfigError(sf.path, n.Mark().line + 1, "integrator.name",
+                          std::string("expected a string, got a ") + (n.IsSequence() ? "sequence" : "mapping"));
+      sceneName = n.Scalar();
+    }
   }
   c.name = args.integrator.empty() ? sceneName : args.integrator;
   if (sf.integrator && c.name == sceneName)
@@ -37,13 +61,18 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
   for (const std::string& kv : args.overrides) {
     auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
-      throw ConfigError("command line", 0, "--set " + kv, "expected key=value");
+      throw flagError("--set", "expected key=value (e.g. --set max_depth=8), got '" + kv + "'");
     std::string key = kv.substr(0, eq);
+    YAML::Node value;
     try {
-      c.params[key] = YAML::Load(kv.substr(eq + 1));
+      value = YAML::Load(kv.substr(eq + 1));
     } catch (const YAML::Exception& e) {
-      throw ConfigError("command line", 0, "--set " + key, "malformed value: " + e.msg);
+      throw flagError("--set " + key, "malformed value: " + e.msg);
     }
+    // An empty value loads as null, which every accessor reads as "use the
+    // default": the override would silently do nothing.
+    if (value.IsNull()) throw flagError("--set " + key, "empty value (expected " + key + "=value)");
+    c.params[key] = value;
     c.overridden.push_back(key);
   }
   return c;
@@ -52,6 +81,22 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
 std::string stemPath(const std::string& exr) {
   std::filesystem::path p(exr);
   return (p.parent_path() / p.stem()).string();
+}
+
+// Every output path is checked before the render: a failure found only when
+// writing would cost the whole render, and could leave the EXR without its
+// PNG and configuration.
+void checkOutputs(const std::string& output) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(output).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) throw flagError("--output", "folder does not exist: " + dir.string());
+  if (!fs::is_directory(dir, ec)) throw flagError("--output", "not a folder: " + dir.string());
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) throw flagError("--output", "folder is not writable: " + dir.string());
+  std::string stem = stemPath(output);
+  for (const std::string& path : {output, stem + ".png", stem + ".config.yaml"})
+    if (fs::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
 }
 
 void printSummary(const RenderReport& rep, const Film& film) {
@@ -67,6 +112,13 @@ void printSummary(const RenderReport& rep, const Film& film) {
 }
 
 int render(const RenderArgs& args) {
+  const bool replay = !args.replayPixel.empty() || args.replaySample >= 0;
+  if (!args.replayPixel.empty() && args.replaySample < 0) throw flagError("--sample", "--pixel needs --sample I");
+  if (args.replayPixel.empty() && args.replaySample >= 0) throw flagError("--pixel", "--sample needs --pixel X,Y");
+  if (!args.integrator.empty()) checkIntegratorName(args.integrator);
+  std::string output = args.output.empty() ? std::filesystem::path(args.scene).stem().string() + ".exr" : args.output;
+  if (!replay) checkOutputs(output);
+
   YAML::Node sceneOverrides(YAML::NodeType::Map);
   if (args.worldScale > 0) sceneOverrides["world_scale"] = args.worldScale;
   SceneFile sf = loadScene(args.scene, sceneOverrides);
@@ -80,11 +132,11 @@ int render(const RenderArgs& args) {
     threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(args.threads));
 
   const Camera& cam = sf.scene->camera;
-  if (!args.replayPixel.empty() || args.replaySample >= 0) {
+  if (replay) {
     int x = -1, y = -1;
-    if (std::sscanf(args.replayPixel.c_str(), "%d,%d", &x, &y) != 2 || x < 0 || y < 0 || x >= cam.width() ||
-        y >= cam.height() || args.replaySample < 0)
-      throw ConfigError("command line", 0, "--pixel", "replay needs --pixel X,Y inside the image and --sample I");
+    if (!parsePixel(args.replayPixel, x, y) || x >= cam.width() || y >= cam.height())
+      throw flagError("--pixel", "must be a pixel X,Y inside the " + std::to_string(cam.width()) + "x" +
+                                     std::to_string(cam.height()) + " film, got '" + args.replayPixel + "'");
     enableFlushToZeroOnAllThreads();
     auto sampler = makeSampler(sf.sampler, args.seed);
     integrator->preprocess(*sf.scene, *sampler);
@@ -97,11 +149,6 @@ int render(const RenderArgs& args) {
               << " " << value->b << "\n";
     return 0;
   }
-
-  std::string output = args.output.empty() ? std::filesystem::path(args.scene).stem().string() + ".exr" : args.output;
-  std::filesystem::path outDir = std::filesystem::path(output).parent_path();
-  if (!outDir.empty() && !std::filesystem::is_directory(outDir))
-    throw ConfigError("command line", 0, "--output", "folder does not exist: " + outDir.string());
 
   RenderOptions options;
   options.seed = args.seed;
@@ -133,10 +180,22 @@ int render(const RenderArgs& args) {
 
   Image image = film.image();
   std::string stem = stemPath(output);
-  writeExr(output, image);
-  writePng(stem + ".png", image);
-  writeTextFile(stem + ".config.yaml", std::string(emitter.c_str()) + "\n");
-  std::vector<std::string> extra = integrator->writeExtraOutputs(stem);
+  // A failed write (disk full, say) removes what was written before it: a
+  // failed run leaves no output file.
+  std::vector<std::string> written, extra;
+  try {
+    writeExr(output, image);
+    written.push_back(output);
+    writePng(stem + ".png", image);
+    written.push_back(stem + ".png");
+    writeTextFile(stem + ".config.yaml", std::string(emitter.c_str()) + "\n");
+    written.push_back(stem + ".config.yaml");
+    extra = integrator->writeExtraOutputs(stem);
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& w : written) std::filesystem::remove(w, ec);
+    throw;
+  }
   printSummary(rep, film);
   std::cerr << "wrote " << output << ", " << stem << ".png, " << stem << ".config.yaml";
   if (!extra.empty()) std::cerr << " and " << extra.size() << " more (" << extra.front() << " …)";

@@ -1,70 +1,14 @@
 // Every bad input gets one clear message naming file, line and key, exit code
 // 2, and no output file. These run the real `lightbench` binary.
-#include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include "core/image.h"
+#include "tests/support/bad_input_fixture.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RunResult {
-  int exitCode;
-  std::string err;
-};
-
-class BadInput : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lightbench-bad-input-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
-  RunResult render(const std::string& scene, const std::string& extra = "", const std::string& budget = "--spp 1") {
-    std::string errFile = (dir_ / "stderr.txt").string();
-    std::string cmd = std::string(LIGHTBENCH_BINARY) + " render " + scene + " " + budget + " -q -o " +
-                      (dir_ / "out" / "image.exr").string() + " " + extra + " 2>" + errFile;
-    fs::create_directories(dir_ / "out");
-    int status = std::system(cmd.c_str());
-    std::stringstream ss;
-    ss << std::ifstream(errFile).rdbuf();
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
-  }
-  bool noOutput() const { return fs::is_empty(dir_ / "out"); }
-
-  // A valid scene with one line replaced: the tests break it one way at a time.
-  std::string scene(const std::string& shapeLine, const std::string& extraTop = "") {
-    return "camera: {position: [0, 1, 4], look_at: [0, 1, 0]}\n"
-           "film: {width: 8, height: 8}\n"
-           "materials:\n"
-           "  white: {type: diffuse, albedo: 0.7}\n" +
-           extraTop +
-           "shapes:\n"
-           "  - {type: rectangle, material: white, transform: {rotate_x: -90}}\n" +
-           shapeLine + "\n";
-  }
-  void expectError(const RunResult& r, const std::string& fileAndLine, const std::string& key,
-                   const std::string& phrase) {
-    EXPECT_EQ(r.exitCode, 2) << r.err;
-    EXPECT_NE(r.err.find(fileAndLine), std::string::npos) << "missing location '" << fileAndLine << "' in: " << r.err;
-    EXPECT_NE(r.err.find(key), std::string::npos) << "missing key '" << key << "' in: " << r.err;
-    EXPECT_NE(r.err.find(phrase), std::string::npos) << "missing '" << phrase << "' in: " << r.err;
-    EXPECT_TRUE(noOutput());
-  }
-
-  fs::path dir_;
-};
+using lb::testing::BadInput;
+using lb::testing::RunResult;
 
 TEST_F(BadInput, ValidSceneRendersAndWritesAllFiles) {
   std::string f = write("ok.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
@@ -240,9 +184,12 @@ TEST_F(BadInput, UnknownIntegratorInScene) {
   expectError(render(f), "s.yaml:8", "integrator", "did you mean 'path'");
 }
 
+// A flag's error names the flag, not the scene file.
 TEST_F(BadInput, UnknownIntegratorOnCommandLine) {
   std::string f = write("s.yaml", scene(""));
-  expectError(render(f, "--integrator bdtp"), "s.yaml", "integrator", "unknown integrator 'bdtp'");
+  RunResult r = render(f, "--integrator bdtp");
+  expectError(r, "command line", "--integrator", "unknown integrator 'bdtp'");
+  EXPECT_EQ(r.err.find("s.yaml"), std::string::npos) << r.err;
 }
 
 TEST_F(BadInput, UnknownIntegratorParameter) {
@@ -257,6 +204,50 @@ TEST_F(BadInput, BadOverrideOnCommandLine) {
 
 TEST_F(BadInput, MissingSceneFile) {
   expectError(render((dir_ / "absent.yaml").string()), "absent.yaml", "", "cannot open");
+}
+
+// `[a, b]: 1` used to end in yaml-cpp's "bad conversion", exit 1, no location.
+TEST_F(BadInput, KeyThatIsNotAName) {
+  expectError(render(write("s.yaml", scene("", "[a, b]: 1\n"))), "s.yaml:5", "", "a key must be a plain name, got a sequence");
+  expectError(render(write("t.yaml", scene("", "? {x: 1}\n: 2\n"))), "t.yaml:5", "", "got a mapping");
+  expectError(render(write("u.yaml", scene("", "") + "integrator: {name: path, [1]: 2}\n")), "u.yaml:8", "integrator",
+              "a key must be a plain name");
+}
+
+TEST_F(BadInput, ValueOfTheWrongShape) {
+  expectError(render(write("s.yaml", scene("", "") + "integrator: {name: [path]}\n")), "s.yaml:8", "integrator.name",
+              "expected a string, got a sequence");
+  std::string film = scene("");
+  film.replace(film.find("{width: 8"), 9, "{width: {w: 8}");
+  expectError(render(write("t.yaml", film)), "t.yaml:2", "film.width", "expected an integer, got a mapping");
+  expectError(render(write("u.yaml", scene("  - {type: sphere, radius: [1]}"))), "u.yaml:7", "radius",
+              "expected a number, got a sequence");
+}
+
+// The second of two equal keys used to win silently.
+TEST_F(BadInput, KeyGivenTwice) {
+  expectError(render(write("s.yaml", scene("", "film: {width: 4, height: 4}\n"))), "s.yaml:5", "'film'",
+              "given twice (first at line 2)");
+  expectError(render(write("t.yaml", scene("", "") + "integrator: {name: path,\n  max_depth: 3, max_depth: 4}\n")),
+              "t.yaml:9", "integrator.max_depth", "given twice (first at line 9)");
+  expectError(render(write("u.yaml", scene("  - {type: sphere, radius: 1, radius: 2}"))), "u.yaml:7",
+              "shapes[1].radius", "given twice");
+}
+
+// Used to fail with exit 1 and "basic_filebuf::underflow".
+TEST_F(BadInput, ScenePathIsADirectory) {
+  fs::create_directories(dir_ / "scene.yaml");
+  expectError(render((dir_ / "scene.yaml").string()), "scene.yaml", "", "is a directory");
+}
+
+// Used to end in std::bad_alloc after building the scene; the estimate is
+// refused before any pixel is allocated.
+TEST_F(BadInput, FilmTooLargeForMemory) {
+  std::string text = scene("");
+  text.replace(text.find("{width: 8, height: 8}"), 21, "{width: 1000000, height: 1000000}");
+  RunResult r = render(write("s.yaml", text));
+  expectError(r, "s.yaml:2", "film.width", "GiB");
+  EXPECT_NE(r.err.find("1000000 x 1000000 film"), std::string::npos) << r.err;
 }
 
 }  // namespace

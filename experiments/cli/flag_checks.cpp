@@ -1,0 +1,89 @@
+#include "experiments/cli/flag_checks.h"
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+
+namespace lb {
+
+namespace {
+
+// The whole of `text` as a base-10 integer of type T (from_chars: no sign for
+// unsigned types, no leading '+' or space, out of range is an error).
+template <typename T>
+bool parseWhole(const std::string& text, T& value) {
+  const char* end = text.data() + text.size();
+  auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  return ec == std::errc() && ptr == end && !text.empty();
+}
+
+std::string got(const std::string& text) { return ", got '" + text + "'"; }
+
+}  // namespace
+
+CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what) {
+  std::string rule = minimum == 0 ? "a whole number in [0, 18446744073709551615]"
+                                  : "a whole number in [" + std::to_string(minimum) + ", 18446744073709551615]";
+  return CLI::Validator(
+      [=](std::string& text) {
+        uint64_t v = 0;
+        if (!parseWhole(text, v) || v < minimum) return "must be " + rule + " (" + what + ")" + got(text);
+        return std::string();
+      },
+      ">= " + std::to_string(minimum));
+}
+
+CLI::Validator intInRange(long long minimum, long long maximum, const std::string& what) {
+  return CLI::Validator(
+      [=](std::string& text) {
+        long long v = 0;
+        if (!parseWhole(text, v) || v < minimum || v > maximum)
+          return "must be a whole number in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "] (" +
+                 what + ")" + got(text);
+        return std::string();
+      },
+      ">= " + std::to_string(minimum));
+}
+
+CLI::Validator positiveFinite(const std::string& what) {
+  return CLI::Validator(
+      [=](std::string& text) {
+        // strtod reads "nan" and "inf" as numbers: both are refused below.
+        char* end = nullptr;
+        double v = text.empty() ? 0 : std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0))
+          return "must be a positive finite number" + (what.empty() ? std::string() : " of " + what) + got(text);
+        return std::string();
+      },
+      "> 0");
+}
+
+bool parsePixel(const std::string& text, int& x, int& y) {
+  auto comma = text.find(',');
+  if (comma == std::string::npos) return false;
+  return parseWhole(text.substr(0, comma), x) && parseWhole(text.substr(comma + 1), y) && x >= 0 && y >= 0;
+}
+
+CLI::Validator pixelCoordinates() {
+  return CLI::Validator(
+      [](std::string& text) {
+        int x = 0, y = 0;
+        if (!parsePixel(text, x, y)) return "must be X,Y: two whole non-negative numbers" + got(text);
+        return std::string();
+      },
+      "X,Y");
+}
+
+CLI::Validator exrFileName() {
+  return CLI::Validator(
+      [](std::string& text) {
+        std::filesystem::path p(text);
+        if (p.extension() != ".exr" || p.stem().empty())
+          return "must name an .exr file (the .png preview and .config.yaml are written beside it)" + got(text);
+        return std::string();
+      },
+      "FILE.exr");
+}
+
+}  // namespace lb

@@ -1,0 +1,26 @@
+#pragma once
+// CLI11 validators for `lightbench` flags. They run on the text as typed,
+// before CLI11 converts it: CLI11's own conversion goes through strtoull,
+// which turns "-1" and "2^64" into 2^64-1 and accepts "0x10" or "010". A
+// failed check becomes one line "--flag: must be ..., got '...'".
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace lb {
+
+// A whole decimal number in [minimum, 2^64-1]: no sign, no junk, no overflow.
+CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what);
+// A whole decimal number in [minimum, maximum] (for int-typed flags).
+CLI::Validator intInRange(long long minimum, long long maximum, const std::string& what);
+// A number > 0 that is not NaN or infinite; `what` names its unit.
+CLI::Validator positiveFinite(const std::string& what);
+// "X,Y": two whole non-negative decimal numbers that fit an int.
+CLI::Validator pixelCoordinates();
+// An EXR file name: the PNG preview and the configuration are written beside
+// it under the same stem, so any other extension would be overwritten.
+CLI::Validator exrFileName();
+
+// Strict "X,Y" parsing shared by the validator and the render command.
+bool parsePixel(const std::string& text, int& x, int& y);
+
+}  // namespace lb

@@ -1,0 +1,137 @@
+// Every bad command-line value is one line naming the flag, exit code 2, and
+// no output file (issue 12). These run the real `lightbench` binary; the
+// values are the ones that used to render forever, render the default, or
+// wrap around silently.
+#include <sys/stat.h>
+#include "tests/support/bad_input_fixture.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lb::testing::BadInput;
+using lb::testing::RunResult;
+
+class BadFlag : public BadInput {
+ protected:
+  std::string validScene() {
+    return write("s.yaml", scene("  - {type: sphere, center: [0, 1, 0], radius: 0.5, emission: 2}"));
+  }
+  // `render` of a valid 8x8 scene with `args`.
+  RunResult renderWith(const std::string& args) {
+    return run("render " + validScene() + " -q -o " + (dir_ / "out" / "image.exr").string() + " " + args);
+  }
+};
+
+TEST_F(BadFlag, SppAndTimeMustBePositiveAndFinite) {
+  for (const char* v : {"-1", "0", "1.5", "0x10", "18446744073709551616"}) {
+    SCOPED_TRACE(v);
+    expectFlagError(renderWith(std::string("--spp ") + v), "--spp", std::string("got '") + v + "'");
+  }
+  for (const char* v : {"-1", "0", "nan", "inf", "-inf", "1s"}) {
+    SCOPED_TRACE(v);
+    expectFlagError(renderWith(std::string("--time ") + v), "--time",
+                    std::string("must be a positive finite number of seconds, got '") + v + "'");
+  }
+}
+
+TEST_F(BadFlag, SeedMustFitSixtyFourBits) {
+  for (const char* v : {"-1", "18446744073709551616", "1e3", "0x1"}) {
+    SCOPED_TRACE(v);
+    expectFlagError(renderWith(std::string("--spp 1 --seed ") + v), "--seed", std::string("got '") + v + "'");
+  }
+  // The largest seed is valid.
+  RunResult ok = renderWith("--spp 1 --seed 18446744073709551615");
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
+TEST_F(BadFlag, PixelIsParsedStrictlyAndMustBeInsideTheFilm) {
+  // 4294967299 = 2^32 + 3 used to wrap to 3; "4junk" was read as 4.
+  for (const char* v : {"4294967299,4", "3,4junk", "3", "-1,2", "3,,4", " 3,4"}) {
+    SCOPED_TRACE(v);
+    expectFlagError(renderWith(std::string("--pixel '") + v + "' --sample 0"), "--pixel", "got '");
+  }
+  expectFlagError(renderWith("--pixel 8,0 --sample 0"), "--pixel", "inside the 8x8 film, got '8,0'");
+  expectFlagError(renderWith("--pixel 3,4"), "--sample", "--pixel needs --sample");
+  expectFlagError(renderWith("--sample 0"), "--pixel", "--sample needs --pixel");
+  expectFlagError(renderWith("--pixel 3,4 --sample -2"), "--sample", "got '-2'");
+  RunResult ok = renderWith("--pixel 7,7 --sample 0");
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
+TEST_F(BadFlag, WorldScaleMustBePositiveAndFinite) {
+  for (const char* v : {"nan", "inf", "0", "-2", "2x"}) {
+    SCOPED_TRACE(v);
+    expectFlagError(renderWith(std::string("--spp 1 --world-scale ") + v), "--world-scale",
+                    std::string("must be a positive finite number, got '") + v + "'");
+  }
+}
+
+TEST_F(BadFlag, ThreadsAndJobsAreCheckedAsWholeNumbers) {
+  expectFlagError(renderWith("--spp 1 --threads -1"), "--threads", "got '-1'");
+  expectFlagError(renderWith("--spp 1 --threads 4294967297"), "--threads", "got '4294967297'");
+  expectFlagError(run("run " + validScene() + " --jobs 0"), "--jobs", "got '0'");
+}
+
+TEST_F(BadFlag, SetNeedsAKeyAndAValue) {
+  // An empty value loaded as null: the default, silently.
+  expectFlagError(renderWith("--spp 1 --set max_depth="), "--set max_depth", "empty value");
+  expectFlagError(renderWith("--spp 1 --set max_depth"), "--set", "expected key=value");
+  expectFlagError(renderWith("--spp 1 --set =3"), "--set", "expected key=value");
+}
+
+// CLI11's own errors (unknown flag, missing value, exclusive flags) used to
+// print a second line; they name the flag.
+TEST_F(BadFlag, ParseErrorsAreOneLineNamingTheFlag) {
+  expectFlagError(renderWith("--spp 1 --bogus"), "--bogus", "not expected");
+  expectFlagError(renderWith("--spp 1 --time 1"), "--time", "excludes");
+  expectFlagError(renderWith("--spp"), "--spp", "");
+  expectFlagError(run("render"), "scene", "required");
+}
+
+// -o out.png used to write the EXR to out.png and then the PNG over it.
+TEST_F(BadFlag, OutputMustBeAnExrFile) {
+  for (const char* name : {"image.png", "image", "image.exr.png"}) {
+    SCOPED_TRACE(name);
+    std::string args = "render " + validScene() + " -q --spp 1 -o " + (dir_ / "out" / name).string();
+    expectFlagError(run(args), "--output", "must name an .exr file");
+  }
+}
+
+// The PNG beside the EXR is a directory: found before rendering, no EXR left.
+TEST_F(BadFlag, OutputBesideTheExrThatIsADirectoryIsFoundFirst) {
+  for (const char* taken : {"o.png", "o.config.yaml", "o.exr"}) {
+    SCOPED_TRACE(taken);
+    fs::remove_all(dir_ / "out");
+    fs::create_directories(dir_ / "out" / taken);
+    RunResult r = run("render " + validScene() + " -q --spp 1 -o " + (dir_ / "out" / "o.exr").string());
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("--output"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(std::string(taken) + ": it is a directory"), std::string::npos) << r.err;
+    size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir_ / "out")) files += e.is_regular_file();
+    EXPECT_EQ(files, 0u) << "a file was left behind";
+  }
+}
+
+// The output folder is checked before the scene is even read: the scene here
+// is broken too, and the error is about --output.
+TEST_F(BadFlag, OutputFolderIsCheckedBeforeRendering) {
+  std::string broken = write("broken.yaml", scene("  - {type: sphere, radius: 1, materail: white}"));
+  std::string file = write("file", "not a folder");
+  expectFlagError(run("render " + broken + " -q --spp 1 -o " + file + "/o.exr"), "--output", "not a folder");
+  expectFlagError(run("render " + broken + " -q --spp 1 -o " + (dir_ / "out" / "none" / "o.exr").string()),
+                  "--output", "folder does not exist");
+}
+
+TEST_F(BadFlag, UnwritableOutputFolderIsFoundBeforeRendering) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root can write to a read-only folder";
+  std::string broken = write("broken.yaml", scene("  - {type: sphere, radius: 1, materail: white}"));
+  fs::create_directories(dir_ / "out" / "ro");
+  ::chmod((dir_ / "out" / "ro").c_str(), 0555);
+  RunResult r = run("render " + broken + " -q --spp 1 -o " + (dir_ / "out" / "ro" / "o.exr").string());
+  ::chmod((dir_ / "out" / "ro").c_str(), 0755);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("folder is not writable"), std::string::npos) << r.err;
+}
+
+}  // namespace
