@@ -34,8 +34,10 @@ void validateIntegrator(const std::string& name, const YAML::Node& params, const
   makeIntegrator(name, ip, file, ip.line());
 }
 
+// Params' own file, line and qualified key, as its errors would give them.
 KeyLocation locate(const Params& p, const std::string& key) {
-  return {p.file(), p.context().empty() ? key : p.context() + "." + key, p.line(key)};
+  ConfigError where = p.error(key, "");
+  return {where.file(), where.key(), where.line()};
 }
 
 ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options,
