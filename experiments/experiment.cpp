@@ -150,6 +150,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     c.integrator = cp.requireString("integrator");
     c.label = cp.getString("label", c.integrator);
     c.params = integratorParams(cp, "params");
+    c.context = cp.context() + ".params";
     cp.checkUnused();
     for (const auto& other : e.configurations)
       if (slug(other.label) == slug(c.label))

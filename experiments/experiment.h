@@ -44,6 +44,7 @@ struct ExperimentScene {
 struct Configuration {
   std::string label, integrator;
   YAML::Node params{YAML::NodeType::Map};
+  std::string context;         // "configurations[i].params": errors found while rendering name the key as written
 };
 
 enum class SnapshotSpacing { Log, Linear };

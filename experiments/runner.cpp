@@ -222,9 +222,23 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   }
   std::vector<SceneFile>& scenes = checked.scenes;
 
+  std::atomic<size_t> done{0};  // runs finished by this process
+  // A new run that fails (an exception, e.g. a photon map too large for
+  // memory) before any of its runs finished leaves no folder behind: it holds
+  // no result, and --resume would redo an unfinished run anyway.
+  struct DiscardUnlessKept {
+    fs::path dir;
+    const std::atomic<size_t>& done;
+    bool keep = false;
+    ~DiscardUnlessKept() {
+      std::error_code ec;
+      if (!keep && !dir.empty() && done == 0) fs::remove_all(dir, ec), fs::remove(dir.parent_path(), ec);
+    }
+  } discard{{}, done};
   if (runDir.empty()) {
     runDir = createRunDir(e, o);
     lock.emplace(runDir.string(), e.file);
+    discard.dir = runDir;
   }
   std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
 
@@ -255,7 +269,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
 
   std::vector<double> points = snapshotPoints(e);
   bool timeBudget = e.budget.seconds > 0;
-  std::atomic<size_t> next{0}, done{0};
+  std::atomic<size_t> next{0};
   std::mutex progressMutex;
   auto experimentStart = Clock::now();
 
@@ -264,7 +278,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     const Configuration& c = e.configurations[t.config];
     const Image& ref = references[t.scene];
     const Scene& scene = *scenes[t.scene].scene;
-    Params params(c.params, e.file, "configurations." + c.label);
+    Params params(c.params, e.file, c.context);
     auto integrator = makeIntegrator(c.integrator, params);
     Film film(scene.camera.width(), scene.camera.height());
     uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
@@ -347,6 +361,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     for (auto& th : pool) th.join();
   }
   if (failure) std::rethrow_exception(failure);
+  discard.keep = true;
 
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";

@@ -222,6 +222,22 @@ TEST_F(BadExperiment, ASecondWriterOfARunFolderIsRefused) {
   EXPECT_NE(err.find("already complete"), std::string::npos) << err;
 }
 
+TEST_F(BadExperiment, ARunThatFailsBeforeFinishingAnyRunLeavesNoFolder) {
+  // Refused only once the scene is known (the photon map's memory check, at
+  // preprocessing): 2e9 photon paths store ~1e10 photons, hundreds of GiB.
+  std::string exp = writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{global_photons: 2000000000}");
+  std::string text = readFile(exp);
+  text.replace(text.find("label: b, integrator: path"), 26, "label: b, integrator: photon");
+  text.replace(text.find("  - {label: a, integrator: path}\n"), 33, "");
+  std::ofstream(exp) << text;
+  std::string err;
+  fs::path results = dir_ / "results";
+  EXPECT_EQ(runBinary(exp + " --results " + results.string(), &err), 2) << err;
+  EXPECT_NE(err.find("exp.yaml:7: 'configurations[0].params.global_photons': "), std::string::npos) << err;
+  EXPECT_NE(err.find("request fewer photons"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(results / "exp")) << "the failed run left its folder";
+}
+
 float channelValue(const std::string& channel, int pixel) {
   if (channel.find("beauty") != std::string::npos) return 100;  // the layer that must not be read
   float base = channel.back() == 'R' ? 1 : channel.back() == 'G' ? 2 : channel.back() == 'B' ? 3 : 0.5f;
