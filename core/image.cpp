@@ -6,10 +6,12 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <unistd.h>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <stdexcept>
 
 namespace lb {
@@ -50,19 +52,53 @@ void writeExr(const std::string& path, const Image& image) {
   commit(tmp, path);
 }
 
+namespace {
+// The channels that hold red, green and blue: R, G, B; else those of the one
+// layer that has all three (e.g. color.R, color.G, color.B); else Y (grey)
+// three times. Anything else is refused with the channels found, never read
+// as black (a missing channel would silently fill with zeros).
+std::array<std::string, 3> rgbChannels(const Imf::ChannelList& channels) {
+  auto has = [&](const std::string& name) { return channels.findChannel(name) != nullptr; };
+  if (has("R") && has("G") && has("B")) return {"R", "G", "B"};
+  std::set<std::string> layers, rgbLayers;
+  channels.layers(layers);
+  for (const auto& l : layers)
+    if (has(l + ".R") && has(l + ".G") && has(l + ".B")) rgbLayers.insert(l);
+  if (rgbLayers.size() == 1) {
+    const std::string& l = *rgbLayers.begin();
+    return {l + ".R", l + ".G", l + ".B"};
+  }
+  // Y with chroma (RY, BY) is a colour image that Y alone would turn grey.
+  if (rgbLayers.empty() && has("Y") && !has("RY") && !has("BY")) return {"Y", "Y", "Y"};
+  std::string found;
+  for (auto c = channels.begin(); c != channels.end(); ++c) found += (found.empty() ? "" : ", ") + std::string(c.name());
+  if (rgbLayers.size() > 1) {
+    std::string list;
+    for (const auto& l : rgbLayers) list += (list.empty() ? "" : ", ") + l;
+    throw std::runtime_error("several layers have R, G, B (" + list + "); found channels: " + found);
+  }
+  throw std::runtime_error("no R, G, B (or Y) channels; found: " + (found.empty() ? std::string("none") : found));
+}
+}  // namespace
+
 Image readExr(const std::string& path) {
   try {
     Imf::InputFile file(path.c_str());
+    std::array<std::string, 3> names = rgbChannels(file.header().channels());
+    bool grey = names[0] == names[1];
     Imath::Box2i dw = file.header().dataWindow();
+    if (dw.max.x < dw.min.x || dw.max.y < dw.min.y) throw std::runtime_error("empty data window");
     Image image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
                  (size_t(dw.min.x) + size_t(dw.min.y) * image.width) * sizeof(Color);
-    const char* names[3] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c)
+    // A grey image is read once, into red, and copied to green and blue.
+    for (int c = 0; c < (grey ? 1 : 3); ++c)
       fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
+    if (grey)
+      for (Color& p : image.pixels) p = Color(p.r);
     return image;
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot read " + path + ": " + e.what());

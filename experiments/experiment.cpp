@@ -18,11 +18,13 @@ std::string availableIntegrators() {
   return list;
 }
 
-// The mapping minus the keys this file interprets itself.
+// The mapping minus the keys this file interprets itself. The node itself,
+// not a YAML::Clone: a clone loses the marks, and every later error about a
+// parameter would point at line 1.
 YAML::Node integratorParams(Params& p, const std::string& key) {
   auto child = p.getChild(key);
   if (!child) return YAML::Node(YAML::NodeType::Map);
-  return YAML::Clone(child->node());
+  return child->node();
 }
 
 // Builds the integrator once to check its parameters (unknown keys, ranges).
@@ -32,15 +34,25 @@ void validateIntegrator(const std::string& name, const YAML::Node& params, const
   makeIntegrator(name, ip, file, ip.line());
 }
 
-ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options) {
+// Params' own file, line and qualified key, as its errors would give them.
+KeyLocation locate(const Params& p, const std::string& key) {
+  ConfigError where = p.error(key, "");
+  return {where.file(), where.key(), where.line()};
+}
+
+ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options,
+                            KeyLocation* at) {
   ReferenceSpec r;
+  *at = locate(p, "reference");
   auto ref = p.getChild("reference");
   if (!ref) return r;
   if (ref->has("file")) {
+    *at = locate(*ref, "file");
     r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
     if (!std::filesystem::exists(r.file)) ref->fail("file", "reference image not found: " + r.file);
   } else {
     if (ref->has("scene")) {
+      *at = locate(*ref, "scene");
       r.scene = (std::filesystem::path(folder) / ref->getString("scene", "")).lexically_normal().string();
       if (!std::filesystem::exists(r.scene)) ref->fail("scene", "reference scene not found: " + r.scene);
     }
@@ -79,11 +91,16 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   Params p(e.source, path, "");
   std::string folder = std::filesystem::path(path).parent_path().string();
   e.name = p.getString("name", std::filesystem::path(path).stem().string());
+  // The run folder is <results>/<name>/: a path here would put it elsewhere.
+  if (e.name.empty() || e.name == "." || e.name == ".." || e.name.find_first_of("/\\") != std::string::npos ||
+      e.name.find('\0') != std::string::npos)
+    p.fail("name", "must be a plain folder name (not empty, no '/', not '.' or '..'), got '" + e.name + "'");
 
   for (Params& sp : p.getList("scenes")) {
     ExperimentScene s;
     s.path = (std::filesystem::path(folder) / sp.requireString("scene")).lexically_normal().string();
     if (!std::filesystem::exists(s.path)) sp.fail("scene", "scene file not found: " + s.path);
+    s.sceneAt = locate(sp, "scene");
     s.name = sp.getString("name", std::filesystem::path(s.path).stem().string());
     if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
       sp.fail("name", "must be a non-empty file-name stem (no spaces or slashes)");
@@ -109,7 +126,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       s.resolution["film"]["width"] = w;
       s.resolution["film"]["height"] = h;
     }
-    s.reference = readReference(sp, folder, options);
+    s.reference = readReference(sp, folder, options, &s.referenceAt);
+    s.cropAt = locate(sp, "crop");
     if (sp.has("crop")) {
       YAML::Node c = sp.node()["crop"];
       if (!c.IsSequence() || c.size() != 4) sp.fail("crop", "expected [x0, y0, x1, y1] in pixels");
@@ -132,6 +150,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     c.integrator = cp.requireString("integrator");
     c.label = cp.getString("label", c.integrator);
     c.params = integratorParams(cp, "params");
+    c.context = cp.context() + ".params";
     cp.checkUnused();
     for (const auto& other : e.configurations)
       if (slug(other.label) == slug(c.label))

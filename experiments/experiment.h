@@ -11,6 +11,14 @@
 
 namespace lb {
 
+// Where a key was written, for checks that need more than the experiment file
+// (a reference's size needs the scene loaded): their errors name it too.
+struct KeyLocation {
+  std::string file, key;
+  int line = 0;
+  ConfigError error(const std::string& message) const { return ConfigError(file, line, key, message); }
+};
+
 struct ReferenceSpec {
   std::string file;            // an EXR to use as is, or empty: compute and cache
   std::string scene;           // render it from this scene instead of the run's (e.g. the unscaled or the
@@ -28,11 +36,15 @@ struct ExperimentScene {
   YAML::Node resolution{YAML::NodeType::Map}; // the film override alone (given to a reference scene)
   ReferenceSpec reference;
   Crop crop;
+  // The keys validateExperiment() reports against: `scene`, `reference`
+  // (its `file` or `scene` when given) and `crop`.
+  KeyLocation sceneAt, referenceAt, cropAt;
 };
 
 struct Configuration {
   std::string label, integrator;
   YAML::Node params{YAML::NodeType::Map};
+  std::string context;         // "configurations[i].params": errors found while rendering name the key as written
 };
 
 enum class SnapshotSpacing { Log, Linear };

@@ -10,12 +10,15 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
 #include "core/scene_loader.h"
 #include "experiments/meta.h"
 #include "experiments/reference.h"
+#include "experiments/run_lock.h"
+#include "experiments/validate.h"
 #include "integrators/registry.h"
 
 namespace fs = std::filesystem;
@@ -136,20 +139,30 @@ std::vector<double> snapshotPoints(const Experiment& e) {
   return points;
 }
 
-fs::path chooseRunDir(const Experiment& e, const RunnerOptions& o) {
+// The latest run of the experiment, for --resume; empty: start a new one.
+fs::path latestRun(const Experiment& e, const RunnerOptions& o) {
   fs::path base = fs::path(o.resultsRoot) / e.name;
-  if (o.resume && fs::exists(base)) {
+  if (!o.resume) return {};
+  if (fs::exists(base)) {
     std::vector<fs::path> runs;
     for (const auto& d : fs::directory_iterator(base))
       if (d.is_directory() && fs::exists(d.path() / "log.csv")) runs.push_back(d.path());
     if (!runs.empty()) return *std::max_element(runs.begin(), runs.end());
-    std::cerr << "resume: no earlier run of '" << e.name << "'; starting a new one\n";
   }
+  std::cerr << "resume: no earlier run of '" << e.name << "'; starting a new one\n";
+  return {};
+}
+
+// A new run folder, created here: create_directory fails on an existing one,
+// so two runs started in the same second never share a folder.
+fs::path createRunDir(const Experiment& e, const RunnerOptions& o) {
+  fs::path base = fs::path(o.resultsRoot) / e.name;
+  fs::create_directories(base);
   std::time_t now = std::time(nullptr);
   char id[32];
   std::strftime(id, sizeof id, "%Y%m%d-%H%M%S", std::gmtime(&now));
   fs::path dir = base / id;
-  for (int i = 2; fs::exists(dir); ++i) dir = base / (std::string(id) + "-" + std::to_string(i));
+  for (int i = 2; !fs::create_directory(dir); ++i) dir = base / (std::string(id) + "-" + std::to_string(i));
   return dir;
 }
 
@@ -157,9 +170,9 @@ fs::path chooseRunDir(const Experiment& e, const RunnerOptions& o) {
 
 std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   using Clock = std::chrono::steady_clock;
-  fs::path runDir = chooseRunDir(e, o);
-  fs::create_directories(runDir);
-  std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
+  // Every input first: a bad one fails in seconds, before any reference
+  // renders, and leaves no run folder behind.
+  CheckedExperiment checked = validateExperiment(e);
 
   // What a resumed run must share with the one it continues.
   std::vector<std::string> identity = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
@@ -169,15 +182,65 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   for (const auto& s : e.scenes) referenceIds.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
   identity.insert(identity.end(), referenceIds.begin(), referenceIds.end());
   std::string experimentHash = hashStrings(identity);
-  if (o.resume && fs::exists(runDir / "meta.json")) {
-    std::ifstream in(runDir / "meta.json");
-    std::stringstream text;
-    text << in.rdbuf();
-    if (text.str().find("\"experiment_hash\": \"" + experimentHash + "\"") == std::string::npos)
-      throw ConfigError(e.file, 0, "--resume",
-                        "the experiment, its budget or its references changed since " + runDir.string() +
-                            " was started; run without --resume to start a new run");
+  fs::path runDir = latestRun(e, o);
+  std::optional<RunLock> lock;
+  if (!runDir.empty()) {
+    if (fs::exists(runDir / "meta.json")) {
+      std::ifstream in(runDir / "meta.json");
+      std::stringstream text;
+      text << in.rdbuf();
+      if (text.str().find("\"experiment_hash\": \"" + experimentHash + "\"") == std::string::npos)
+        throw ConfigError(e.file, 0, "--resume",
+                          "the experiment, its budget or its references changed since " + runDir.string() +
+                              " was started; run without --resume to start a new run");
+    }
+    // Before anything is rendered or rewritten: one writer per run folder.
+    lock.emplace(runDir.string(), e.file);
   }
+
+  // References (rendered with every core) before the run folder exists: a
+  // reference that fails leaves no half-started run.
+  std::vector<Image> references;
+  std::vector<double> referenceFloors;
+  for (size_t si = 0; si < e.scenes.size(); ++si) {
+    const ExperimentScene& s = e.scenes[si];
+    Reference obtained;
+    if (!s.reference.file.empty()) {
+      std::cerr << "reference: " << s.reference.file << " (given)\n";
+      obtained.image = std::move(checked.givenReferences[si]);
+    } else {
+      obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
+    }
+    const Camera& camera = checked.scenes[si].scene->camera;
+    // A cached file replaced by hand is the only way left to get here.
+    if (obtained.image.width != camera.width() || obtained.image.height != camera.height())
+      throw s.referenceAt.error("reference of " + s.name + " is " + std::to_string(obtained.image.width) + "×" +
+                                std::to_string(obtained.image.height) + ", the scene renders " +
+                                std::to_string(camera.width()) + "×" + std::to_string(camera.height()));
+    references.push_back(std::move(obtained.image));
+    referenceFloors.push_back(std::sqrt(obtained.varianceOfMean));
+  }
+  std::vector<SceneFile>& scenes = checked.scenes;
+
+  std::atomic<size_t> done{0};  // runs finished by this process
+  // A new run that fails (an exception, e.g. a photon map too large for
+  // memory) before any of its runs finished leaves no folder behind: it holds
+  // no result, and --resume would redo an unfinished run anyway.
+  struct DiscardUnlessKept {
+    fs::path dir;
+    const std::atomic<size_t>& done;
+    bool keep = false;
+    ~DiscardUnlessKept() {
+      std::error_code ec;
+      if (!keep && !dir.empty() && done == 0) fs::remove_all(dir, ec), fs::remove(dir.parent_path(), ec);
+    }
+  } discard{{}, done};
+  if (runDir.empty()) {
+    runDir = createRunDir(e, o);
+    lock.emplace(runDir.string(), e.file);
+    discard.dir = runDir;
+  }
+  std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
 
   std::set<std::string> completed;
   LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
@@ -186,29 +249,13 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   int jobs = std::max(1, std::min(o.jobs, cores));
   int threadsPerRun = std::max(1, cores / jobs);
   RunMeta meta = startMeta(e, runDir.string(), threadsPerRun, jobs, experimentHash);
-
-  // References and scenes first (references use every core).
-  std::vector<Image> references;
-  std::vector<SceneFile> scenes;
   for (size_t si = 0; si < e.scenes.size(); ++si) {
     const ExperimentScene& s = e.scenes[si];
-    Reference obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
-    Image ref = std::move(obtained.image);
-    meta.referenceRmseFloor[s.name] = std::sqrt(obtained.varianceOfMean);
-    SceneFile sf = loadScene(s.path, s.overrides);
-    if (ref.width != sf.scene->camera.width() || ref.height != sf.scene->camera.height())
-      throw ConfigError(e.file, 0, "reference", "reference of " + s.name + " is " + std::to_string(ref.width) + "×" +
-                                                    std::to_string(ref.height) + ", the scene renders " +
-                                                    std::to_string(sf.scene->camera.width()) + "×" +
-                                                    std::to_string(sf.scene->camera.height()));
-    if (!s.crop.empty() && (s.crop.x1 > ref.width || s.crop.y1 > ref.height))
-      throw ConfigError(e.file, 0, "crop", "crop of " + s.name + " reaches beyond its " + std::to_string(ref.width) +
-                                               "×" + std::to_string(ref.height) + " image");
-    writePng((runDir / (s.name + "__reference.png")).string(), ref);
-    if (!s.crop.empty()) writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(ref, s.crop, 4));
+    meta.referenceRmseFloor[s.name] = referenceFloors[si];
     meta.referenceKeys[s.name] = referenceIds[si];
-    references.push_back(std::move(ref));
-    scenes.push_back(std::move(sf));
+    writePng((runDir / (s.name + "__reference.png")).string(), references[si]);
+    if (!s.crop.empty())
+      writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(references[si], s.crop, 4));
   }
 
   std::vector<RunTask> tasks;
@@ -222,7 +269,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
 
   std::vector<double> points = snapshotPoints(e);
   bool timeBudget = e.budget.seconds > 0;
-  std::atomic<size_t> next{0}, done{0};
+  std::atomic<size_t> next{0};
   std::mutex progressMutex;
   auto experimentStart = Clock::now();
 
@@ -231,7 +278,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     const Configuration& c = e.configurations[t.config];
     const Image& ref = references[t.scene];
     const Scene& scene = *scenes[t.scene].scene;
-    Params params(c.params, e.file, "configurations." + c.label);
+    Params params(c.params, e.file, c.context);
     auto integrator = makeIntegrator(c.integrator, params);
     Film film(scene.camera.width(), scene.camera.height());
     uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
@@ -314,6 +361,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     for (auto& th : pool) th.join();
   }
   if (failure) std::rethrow_exception(failure);
+  discard.keep = true;
 
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";

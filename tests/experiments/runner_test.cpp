@@ -326,7 +326,9 @@ TEST_F(Runner, BadExperimentFilesAreClearErrors) {
   text.replace(text.find("crop: [4, 8, 12, 16]"), 20, "crop: [4, 8, 12, 17]");
   std::ofstream(dir_ / "exp.yaml") << text;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "r2").string(), &err), 2);
-  EXPECT_NE(err.find("'crop': crop of scene reaches beyond its 16×16 image"), std::string::npos) << err;
+  EXPECT_NE(err.find("exp.yaml:5: 'scenes[0].crop': [4, 8, 12, 17] reaches beyond the 16×16 image of scene"),
+            std::string::npos)
+      << err;
   writeExperiment("{spp: 2}", 1);
   text = readFile(dir_ / "exp.yaml");
   text.replace(text.find("label: mis,"), 11, "label: BSDF,");

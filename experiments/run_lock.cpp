@@ -1,0 +1,53 @@
+#include "experiments/run_lock.h"
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include "core/error.h"
+
+namespace lb {
+
+namespace {
+// The pid the holder wrote, or "" (it may not have written it yet).
+std::string holderPid(int fd) {
+  char buf[32] = {0};
+  ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
+  std::string pid;
+  for (ssize_t i = 0; i < n && buf[i] >= '0' && buf[i] <= '9'; ++i) pid += buf[i];
+  return pid;
+}
+}  // namespace
+
+RunLock::RunLock(const std::string& runDir, const std::string& experimentFile) {
+  std::string path = (std::filesystem::path(runDir) / FileName).string();
+  // O_CLOEXEC: the report script run at the end must not inherit (and so
+  // prolong) the lock.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    int err = errno;
+    std::string pid = holderPid(fd_);
+    ::close(fd_);
+    if (err == EWOULDBLOCK)
+      throw ConfigError(experimentFile, 0, "",
+                        "run folder " + runDir + " is in use by another lightbench process" +
+                            (pid.empty() ? std::string() : " (pid " + pid + ")"));
+    throw std::runtime_error("cannot lock " + path + ": " + std::strerror(err));
+  }
+  // Only once locked: a refused process must not touch the file. The pid is
+  // informative (for the message above), so a failed write is not an error.
+  std::string pid = std::to_string(::getpid()) + "\n";
+  if (::ftruncate(fd_, 0) == 0) {
+    ssize_t written = ::pwrite(fd_, pid.data(), pid.size(), 0);
+    (void)written;
+  }
+}
+
+RunLock::~RunLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
+}
+
+}  // namespace lb

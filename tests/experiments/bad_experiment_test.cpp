@@ -1,0 +1,286 @@
+// Issue 12 on the experiment side: every bad input is one line naming file,
+// line and key, exit code 2, and nothing written — checked before anything
+// renders (a bad reference or crop used to fail minutes later, leaving a run
+// folder behind). Also: reference EXRs with odd channels, experiment names
+// that would escape --results, and one writer per run folder.
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <gtest/gtest.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include "core/image.h"
+#include "experiments/run_lock.h"
+#include "experiments/runner.h"
+
+namespace fs = std::filesystem;
+
+namespace lb {
+namespace {
+
+std::string readFile(const fs::path& p) {
+  std::stringstream ss;
+  ss << std::ifstream(p, std::ios::binary).rdbuf();
+  return ss.str();
+}
+
+// Every file under `dir` with its bytes: "unchanged" means equal maps.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& f : fs::recursive_directory_iterator(dir))
+    if (f.is_regular_file()) files[fs::relative(f.path(), dir).string()] = readFile(f.path());
+  return files;
+}
+
+// An EXR with the given float channels, each filled by `value(channel, pixel)`.
+void writeChannels(const fs::path& path, int w, int h, const std::vector<std::string>& channels,
+                   float (*value)(const std::string&, int)) {
+  Imf::Header header(w, h);
+  for (const auto& c : channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+  std::vector<std::vector<float>> data(channels.size(), std::vector<float>(size_t(w) * h));
+  Imf::FrameBuffer fb;
+  for (size_t c = 0; c < channels.size(); ++c) {
+    for (int i = 0; i < w * h; ++i) data[c][i] = value(channels[c], i);
+    fb.insert(channels[c], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(data[c].data()), sizeof(float),
+                                      sizeof(float) * w));
+  }
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(fb);
+  file.writePixels(h);
+}
+
+class BadExperiment : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lightbench-bad-" + std::to_string(getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(std::string(LIGHTBENCH_SOURCE_DIR) + "/scenes/cornell-box.yaml", dir_ / "scene.yaml");
+    writeExr((dir_ / "ref.exr").string(), Image(8, 8));
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Line numbers matter: the reference is on line 4, the crop on 5, the
+  // second configuration on 8.
+  std::string writeExperiment(const std::string& reference = "{file: ref.exr}",
+                              const std::string& crop = "[0, 0, 8, 8]", const std::string& params = "{mis: power}",
+                              const std::string& extra = "") {
+    std::ofstream(dir_ / "exp.yaml") << "scenes:\n"
+                                        "  - scene: scene.yaml\n"
+                                        "    resolution: [8, 8]\n"
+                                        "    reference: " << reference << "\n"
+                                        "    crop: " << crop << "\n"
+                                        "configurations:\n"
+                                        "  - {label: a, integrator: path}\n"
+                                        "  - {label: b, integrator: path, params: " << params << "}\n"
+                                        "budget: {spp: 1}\n"
+                                        "snapshots: {count: 1}\n" << extra;
+    return (dir_ / "exp.yaml").string();
+  }
+  int runBinary(const std::string& args, std::string* err) {
+    std::string cmd = std::string(LIGHTBENCH_BINARY) + " run " + args + " --no-report 2>" + (dir_ / "stderr.txt").string();
+    int status = std::system(cmd.c_str());
+    *err = readFile(dir_ / "stderr.txt");
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  // Runs the experiment expecting exit 2, exactly one line containing
+  // `expected`, and no results folder at all.
+  void expectRefused(const std::string& expected) {
+    std::string err;
+    fs::path results = dir_ / "results";
+    EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + results.string(), &err), 2) << err;
+    EXPECT_NE(err.find(expected), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << "one line: " << err;
+    EXPECT_FALSE(fs::exists(results)) << "a refused experiment wrote " << results;
+  }
+  fs::path dir_;
+};
+
+TEST_F(BadExperiment, BadReferenceFilesFailFirstAndLeaveNothing) {
+  const std::string at = "exp.yaml:4: 'scenes[0].reference.file': ";
+  writeExperiment();
+  // Wrong resolution.
+  writeExr((dir_ / "ref.exr").string(), Image(4, 4));
+  expectRefused(at + "reference is 4×4, the scene renders 8×8");
+  // Empty, corrupt and truncated files, and a directory.
+  std::ofstream(dir_ / "ref.exr", std::ios::trunc).close();
+  expectRefused(at + "cannot read");
+  std::ofstream(dir_ / "ref.exr", std::ios::trunc) << std::string(4000, 'x');
+  expectRefused(at + "cannot read");
+  writeExr((dir_ / "ref.exr").string(), Image(8, 8));
+  // Cut in the header, and in the pixels (the last bytes).
+  fs::resize_file(dir_ / "ref.exr", fs::file_size(dir_ / "ref.exr") / 2);
+  expectRefused(at + "cannot read");
+  writeExr((dir_ / "ref.exr").string(), Image(8, 8));
+  fs::resize_file(dir_ / "ref.exr", fs::file_size(dir_ / "ref.exr") - 8);
+  expectRefused(at + "cannot read");
+  fs::remove(dir_ / "ref.exr");
+  fs::create_directory(dir_ / "ref.exr");
+  expectRefused(at + "reference " + (dir_ / "ref.exr").string() + " is not a file");
+}
+
+TEST_F(BadExperiment, NonFiniteReferenceIsRefusedWithTheCount) {
+  Image ref(8, 8);
+  ref.at(1, 2) = Color(NAN, 0, 0);
+  ref.at(3, 3) = Color(0, INFINITY, 0);
+  ref.at(7, 7) = Color(0, 0, -INFINITY);
+  writeExr((dir_ / "ref.exr").string(), ref);
+  writeExperiment();
+  expectRefused("exp.yaml:4: 'scenes[0].reference.file': reference " + (dir_ / "ref.exr").string() +
+                " has 3 non-finite (NaN or Inf) pixels of 64");
+}
+
+TEST_F(BadExperiment, CropOutsideTheImageFailsBeforeTheReferenceRenders) {
+  // A reference to render: the crop used to be checked only after it.
+  writeExperiment("{integrator: path, spp: 1}", "[0, 0, 8, 9]");
+  expectRefused("exp.yaml:5: 'scenes[0].crop': [0, 0, 8, 9] reaches beyond the 8×8 image of scene");
+}
+
+TEST_F(BadExperiment, ReferenceSceneAtAnotherResolutionFailsFirst) {
+  // The reference scene keeps its own 256×256 film when the experiment gives
+  // no resolution; the run's scene is made 8×8 in its own file.
+  std::string s = readFile(dir_ / "scene.yaml");
+  const std::string film = "film: {width: 256, height: 256}";
+  ASSERT_NE(s.find(film), std::string::npos);
+  s.replace(s.find(film), film.size(), "film: {width: 8, height: 8}");
+  std::ofstream(dir_ / "small.yaml") << s;
+  std::ofstream(dir_ / "exp.yaml") << "scenes:\n"
+                                      "  - scene: small.yaml\n"
+                                      "    reference: {scene: scene.yaml, spp: 1}\n"
+                                      "configurations:\n"
+                                      "  - {label: a, integrator: path}\n"
+                                      "budget: {spp: 1}\n";
+  expectRefused("exp.yaml:3: 'scenes[0].reference.scene': the reference scene renders 256×256, the scene renders 8×8");
+}
+
+TEST_F(BadExperiment, BrokenSceneFailsBeforeAnythingIsWritten) {
+  std::ofstream(dir_ / "scene.yaml", std::ios::app) << "bogus_key: 1\n";
+  writeExperiment("{integrator: path, spp: 1}");
+  expectRefused("scene.yaml:");
+  std::string err = readFile(dir_ / "stderr.txt");
+  EXPECT_NE(err.find("'bogus_key': unknown key"), std::string::npos) << err;
+}
+
+TEST_F(BadExperiment, ParameterErrorsNameTheirLine) {
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: powr}");
+  expectRefused("exp.yaml:8: 'configurations[1].params.mis': unknown value 'powr'");
+  writeExperiment("{integrator: path, params: {nee: maybe}, spp: 1}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.params.nee'");
+}
+
+TEST_F(BadExperiment, NamesThatWouldEscapeTheResultsFolderAreRefused) {
+  // (Each would land inside this test's folder if accepted: results/../x is dir_/x.)
+  fs::path outside = dir_ / "outside";
+  for (std::string name : {outside.string(), std::string("../x"), std::string("\"\""), std::string("a/b"),
+                           std::string("..")}) {
+    writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "name: " + name + "\n");
+    expectRefused("exp.yaml:11: 'name': must be a plain folder name");
+    EXPECT_FALSE(fs::exists(outside)) << name;
+    EXPECT_FALSE(fs::exists(dir_ / "x")) << name;
+  }
+  // A plain name is used as the run's folder.
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "name: plain\n");
+  std::string err;
+  ASSERT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "results").string(), &err), 0) << err;
+  EXPECT_TRUE(fs::exists(dir_ / "results" / "plain"));
+}
+
+TEST_F(BadExperiment, ASecondWriterOfARunFolderIsRefused) {
+  std::string exp = writeExperiment();
+  fs::path results = dir_ / "results";
+  std::string err;
+  ASSERT_EQ(runBinary(exp + " --results " + results.string(), &err), 0) << err;
+  fs::path run = *fs::directory_iterator(results / "exp");
+  // This process plays the run still going: it holds the lock.
+  int fd = ::open((run / RunLock::FileName).c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  std::string pid = std::to_string(getpid()) + "\n";
+  ASSERT_EQ(::ftruncate(fd, 0), 0);
+  ASSERT_EQ(::pwrite(fd, pid.data(), pid.size(), 0), ssize_t(pid.size()));
+  auto before = snapshot(results);
+  EXPECT_EQ(runBinary(exp + " --resume --results " + results.string(), &err), 2);
+  EXPECT_NE(err.find("run folder " + run.string() + " is in use by another lightbench process (pid " +
+                     std::to_string(getpid()) + ")"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_EQ(snapshot(results), before) << "the refused process changed the run folder";
+  ::close(fd);
+  // Released (as when its process ends, even killed): the resume goes ahead.
+  EXPECT_EQ(runBinary(exp + " --resume --results " + results.string(), &err), 0) << err;
+  EXPECT_NE(err.find("already complete"), std::string::npos) << err;
+}
+
+TEST_F(BadExperiment, ARunThatFailsBeforeFinishingAnyRunLeavesNoFolder) {
+  // Refused only once the scene is known (the photon map's memory check, at
+  // preprocessing): 2e9 photon paths store ~1e10 photons, hundreds of GiB.
+  std::string exp = writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{global_photons: 2000000000}");
+  std::string text = readFile(exp);
+  text.replace(text.find("label: b, integrator: path"), 26, "label: b, integrator: photon");
+  text.replace(text.find("  - {label: a, integrator: path}\n"), 33, "");
+  std::ofstream(exp) << text;
+  std::string err;
+  fs::path results = dir_ / "results";
+  EXPECT_EQ(runBinary(exp + " --results " + results.string(), &err), 2) << err;
+  EXPECT_NE(err.find("exp.yaml:7: 'configurations[0].params.global_photons': "), std::string::npos) << err;
+  EXPECT_NE(err.find("request fewer photons"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(results / "exp")) << "the failed run left its folder";
+}
+
+float channelValue(const std::string& channel, int pixel) {
+  if (channel.find("beauty") != std::string::npos) return 100;  // the layer that must not be read
+  float base = channel.back() == 'R' ? 1 : channel.back() == 'G' ? 2 : channel.back() == 'B' ? 3 : 0.5f;
+  return base + 0.01f * float(pixel);
+}
+
+TEST(ReadExr, GreyAndSingleLayerImagesAreReadNotBlack) {
+  fs::path dir = fs::temp_directory_path() / ("lightbench-exr-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  writeChannels(dir / "y.exr", 4, 2, {"Y"}, channelValue);
+  Image y = readExr((dir / "y.exr").string());
+  ASSERT_EQ(y.width, 4);
+  ASSERT_EQ(y.height, 2);
+  for (int i = 0; i < 8; ++i) {
+    float v = 0.5f + 0.01f * float(i);
+    EXPECT_EQ(y.pixels[i], Color(v, v, v)) << i;
+  }
+  writeChannels(dir / "layer.exr", 4, 2, {"color.R", "color.G", "color.B", "depth.Z"}, channelValue);
+  Image l = readExr((dir / "layer.exr").string());
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(l.pixels[i], Color(1, 2, 3) + Color(0.01f * float(i))) << i;
+  // Plain R, G, B win over a layer's.
+  writeChannels(dir / "both.exr", 4, 2, {"R", "G", "B", "beauty.R", "beauty.G", "beauty.B"}, channelValue);
+  EXPECT_EQ(readExr((dir / "both.exr").string()).pixels[0], Color(1, 2, 3));
+
+  // Ambiguous or colourless: refused, naming the channels found.
+  auto message = [&](const char* file) {
+    try {
+      readExr((dir / file).string());
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  writeChannels(dir / "two.exr", 4, 2, {"a.R", "a.G", "a.B", "b.R", "b.G", "b.B"}, channelValue);
+  EXPECT_NE(message("two.exr").find("several layers have R, G, B (a, b); found channels: a.B, a.G, a.R, b.B"),
+            std::string::npos)
+      << message("two.exr");
+  writeChannels(dir / "z.exr", 4, 2, {"Z"}, channelValue);
+  EXPECT_NE(message("z.exr").find("no R, G, B (or Y) channels; found: Z"), std::string::npos) << message("z.exr");
+  writeChannels(dir / "rg.exr", 4, 2, {"R", "G"}, channelValue);
+  EXPECT_NE(message("rg.exr").find("found: G, R"), std::string::npos) << message("rg.exr");
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lb
