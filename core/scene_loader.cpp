@@ -1,5 +1,5 @@
 #include "core/scene_loader.h"
-#include <unistd.h>
+#include "core/memory.h"
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -171,17 +171,6 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     scene.addLight(std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
   }
   p.checkUnused();
-}
-
-// Bytes the OS can still give us (MemAvailable), or all physical memory.
-// (The photon map's memory check reads the same figure.)
-double availableMemoryBytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  while (meminfo >> key >> kib)
-    if (key == "MemAvailable:") return kib * 1024;
-  return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
 }
 
 // A film too large for memory would otherwise fail with std::bad_alloc, after

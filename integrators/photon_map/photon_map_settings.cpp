@@ -1,8 +1,7 @@
 #include "integrators/photon_map/photon_map_settings.h"
-#include <unistd.h>
+#include "core/memory.h"
 #include <atomic>
 #include <cstdio>
-#include <fstream>
 #include <limits>
 #include "integrators/photon_map/photon_tracing.h"
 
@@ -32,18 +31,6 @@ DensityQuery PhotonMapSettings::queryFor(const Scene& scene) const {
   q.maxRadius = maxRadius > 0 ? maxRadius : 0.05f * scene.bounds().radius();
   return q;
 }
-
-namespace {
-// Bytes the OS can still give us (MemAvailable), or all physical memory.
-double availableMemoryBytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  while (meminfo >> key >> kib)
-    if (key == "MemAvailable:") return kib * 1024;
-  return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
-}
-}  // namespace
 
 void PhotonMapSettings::checkMemory(const Scene& scene, uint64_t seed, int maxBounces) const {
   // Each stored photon: itself twice while the map is merged, FLANN's copy of
