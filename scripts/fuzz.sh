@@ -76,16 +76,17 @@ make_seeds() {
   return 0
 }
 
-# The top frames inside the project (or the first ones) plus the sanitizer's
-# summary: equal signatures are the same finding.
+# The top frames inside the project (not the fuzz harness) plus the first
+# report line, numbers masked (pids, sizes, YAML line/column): equal
+# signatures are the same finding.
 signature() {
-  local t=$1 input=$2 out
+  local t=$1 input=$2 out summary frames
   out=$(timeout 60 "$BIN/$t" -timeout=10 -rss_limit_mb=2048 "$input" 2>&1 || true)
-  local summary frames
-  summary=$(grep -m1 -E '^SUMMARY:|^fuzz: |ERROR: libFuzzer' <<<"$out" | sed -E 's/ \(pid [0-9]+\)//; s/==[0-9]+==//' | cut -c1-120)
-  frames=$(grep -E '^ +#[0-9]+ ' <<<"$out" | grep -F "$ROOT/" | grep -v tests/fuzz | head -3 |
-           sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //; s/\(.*//' | awk '{print $1 " " $2}' | sed "s|$ROOT/||g" | paste -sd';')
-  echo "${summary:-no report on rerun} @ ${frames:-?}"
+  summary=$(grep -m1 -E '^SUMMARY:|^fuzz: |ERROR: libFuzzer' <<<"$out" | sed -E 's/==[0-9]+==//; s/[0-9]+/N/g' | cut -c1-110)
+  frames=$(grep -E '^ +#[0-9]+ 0x' <<<"$out" | grep -F "$ROOT/" | grep -v tests/fuzz/ | head -3 |
+           sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' | awk '{f=$1; sub(/\(.*/, "", f); print f " " $NF}' |
+           sed "s|$ROOT/||g" | paste -sd';')
+  echo "${summary:-no report on rerun} @ ${frames:-no project frame}"
 }
 
 status=0
@@ -93,7 +94,11 @@ printf '\n%-16s %10s %8s %8s %9s\n' target execs exec/s corpus findings
 for t in "${TARGETS[@]}"; do
   make_seeds "$t"
   corpus=$BUILD/fuzz-corpus/$t artifacts=$BUILD/fuzz-artifacts/$t log=$BUILD/fuzz-logs/$t.log
-  mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
+  # The targets' temp folders (and libFuzzer's fork folder) go here: a process
+  # that crashes or is stopped at the time limit skips its atexit clean-up.
+  export TMPDIR=$BUILD/fuzz-tmp/$t
+  rm -rf "$TMPDIR"
+  mkdir -p "$corpus" "$artifacts" "$(dirname "$log")" "$TMPDIR"
   # -fork=1 with -ignore_*: one worker (the cores are shared) that carries on
   # after a finding, so one run collects several. -close_fd_mask=3 hides the
   # loaders' warnings; sanitizer reports still reach the log.
@@ -115,6 +120,7 @@ for t in "${TARGETS[@]}"; do
     for f in "${found[@]:0:40}"; do echo "$(signature "$t" "$f")|$f"; done | sort -t'|' -k1,1 -u |
       while IFS='|' read -r sig f; do echo "    $sig"; echo "      e.g. $f"; done
   fi
+  rm -rf "$TMPDIR"
 done
 echo
 echo "logs: $BUILD/fuzz-logs/  reproduce: $BIN/TARGET ARTIFACT"
