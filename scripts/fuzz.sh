@@ -76,17 +76,22 @@ make_seeds() {
   return 0
 }
 
-# The top frames inside the project (not the fuzz harness) plus the first
-# report line, numbers masked (pids, sizes, YAML line/column): equal
-# signatures are the same finding.
+# A finding's signature: the first report line (an assertion, our harness's
+# message, the sanitizer's summary), numbers masked (pids, sizes, YAML
+# line/column), plus the top two frames outside the runtimes and the first
+# frame inside the project. Equal signatures are the same finding.
 signature() {
-  local t=$1 input=$2 out summary frames
-  out=$(timeout 60 "$BIN/$t" -timeout=10 -rss_limit_mb=2048 "$input" 2>&1 || true)
-  summary=$(grep -m1 -E '^SUMMARY:|^fuzz: |ERROR: libFuzzer' <<<"$out" | sed -E 's/==[0-9]+==//; s/[0-9]+/N/g' | cut -c1-110)
-  frames=$(grep -E '^ +#[0-9]+ 0x' <<<"$out" | grep -F "$ROOT/" | grep -v tests/fuzz/ | head -3 |
-           sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //' | awk '{f=$1; sub(/\(.*/, "", f); print f " " $NF}' |
-           sed "s|$ROOT/||g" | paste -sd';')
-  echo "${summary:-no report on rerun} @ ${frames:-no project frame}"
+  local t=$1 input=$2 out summary top project
+  out=$(timeout 60 "$BIN/$t" -timeout=10 -rss_limit_mb=2048 "$input" 2>&1 | tr -d '\000' || true)
+  summary=$(grep -a -m1 -E 'Assertion `|^fuzz: |^SUMMARY:|ERROR: libFuzzer' <<<"$out" |
+            sed -E 's/==[0-9]+==//; /^SUMMARY/ s/ \([^)]*\)//g; s/^.*\/([^/]+:[0-9]+): .*(Assertion .*)$/\1: \2/
+                    s/[0-9]+/N/g' | cut -c1-110)
+  frames() { grep -a -E '^ +#[0-9]+ 0x[0-9a-f]+ in ' <<<"$out" | sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //'; }
+  top=$(frames | grep -v -E '__sanitizer|__asan|__ubsan|fuzzer::|libc\.so|nptl/|stdlib/|assert/|signal/|tests/fuzz/|^_start|^main |csu/|sysdeps/|libio/|^__GI|^_IO_|^std::|libstdc' |
+        head -2 | sed -E 's/\(.*//' | paste -sd';')
+  project=$(frames | grep -F "$ROOT/" | grep -v tests/fuzz/ | head -1 | awk '{f=$1; sub(/\(.*/, "", f); print f " " $NF}' |
+            sed "s|$ROOT/||g")
+  echo "${summary:-no report on rerun} @ ${top:-?} < ${project:-no project frame}"
 }
 
 status=0
