@@ -30,9 +30,10 @@ for t in "${TARGETS[@]}"; do
 done
 
 echo "fuzz: building in $BUILD (clang, -j$JOBS)"
+mkdir -p "$BUILD"
 CC=clang CXX=clang++ cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DLIGHTBENCH_FUZZ=ON -DLIGHTBENCH_TESTS=OFF >"$BUILD.configure.log" 2>&1 ||
-  { cat "$BUILD.configure.log" >&2; exit 2; }
+  -DLIGHTBENCH_FUZZ=ON -DLIGHTBENCH_TESTS=OFF >"$BUILD/fuzz-configure.log" 2>&1 ||
+  { cat "$BUILD/fuzz-configure.log" >&2; exit 2; }
 cmake --build "$BUILD" -j"$JOBS" --target "${TARGETS[@]}" fuzz_exr_seeds >"$BUILD/fuzz-build.log" 2>&1 ||
   { tail -40 "$BUILD/fuzz-build.log" >&2; exit 2; }
 BIN=$BUILD/tests/fuzz
@@ -84,7 +85,7 @@ signature() {
   local t=$1 input=$2 out summary top project
   out=$(timeout 60 "$BIN/$t" -timeout=10 -rss_limit_mb=2048 "$input" 2>&1 | tr -d '\000' || true)
   summary=$(grep -a -m1 -E 'Assertion `|^fuzz: |^SUMMARY:|ERROR: libFuzzer' <<<"$out" |
-            sed -E 's/==[0-9]+==//; /^SUMMARY/ s/ \([^)]*\)//g; s/^.*\/([^/]+:[0-9]+): .*(Assertion .*)$/\1: \2/
+            sed -E 's/==[0-9]+== ?//; /^SUMMARY/ s/ \([^)]*\)//g; s/^.*\/([^/]+:[0-9]+): .*(Assertion .*)$/\1: \2/
                     s/[0-9]+/N/g' | cut -c1-110)
   frames() { grep -a -E '^ +#[0-9]+ 0x[0-9a-f]+ in ' <<<"$out" | sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ in //'; }
   top=$(frames | grep -v -E '__sanitizer|__asan|__ubsan|fuzzer::|libc\.so|nptl/|stdlib/|assert/|signal/|tests/fuzz/|^_start|^main |csu/|sysdeps/|libio/|^__GI|^_IO_|^std::|libstdc' |
