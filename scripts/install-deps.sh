@@ -9,6 +9,7 @@ packages=(
   libopenmesh-dev libyaml-cpp-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/fuzz.sh
 )
 
 missing=()
