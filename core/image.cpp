@@ -1,4 +1,5 @@
 #include "core/image.h"
+#include "core/memory.h"
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -7,6 +8,7 @@
 #include <png.h>
 #include <unistd.h>
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -88,7 +90,18 @@ Image readExr(const std::string& path) {
     bool grey = names[0] == names[1];
     Imath::Box2i dw = file.header().dataWindow();
     if (dw.max.x < dw.min.x || dw.max.y < dw.min.y) throw std::runtime_error("empty data window");
-    Image image(dw.max.x - dw.min.x + 1, dw.max.y - dw.min.y + 1);
+    // The header's data window sizes the image before any pixel is read: a
+    // corrupt or hostile header must not make us allocate what we cannot
+    // hold (found by fuzz_exr: a 1.9 KB file claiming 1000000 × 200 pixels).
+    int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+    double bytes = double(w) * double(h) * sizeof(Color);
+    if (w > INT32_MAX || h > INT32_MAX || bytes > 0.9 * availableMemoryBytes()) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, "its data window (%lld x %lld pixels) would need %.3g GiB, more than the memory available",
+                    (long long)w, (long long)h, bytes / (1 << 30));
+      throw std::runtime_error(msg);
+    }
+    Image image{int(w), int(h)};
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
                  (size_t(dw.min.x) + size_t(dw.min.y) * image.width) * sizeof(Color);

@@ -282,5 +282,28 @@ TEST(ReadExr, GreyAndSingleLayerImagesAreReadNotBlack) {
   fs::remove_all(dir);
 }
 
+// A header whose data window is far larger than any memory is refused before
+// the image is allocated (fuzz_exr found a 1.9 KB file claiming 1000000 × 200
+// pixels): a file is written with such a header and no pixels.
+TEST(ReadExr, AHugeDataWindowIsRefusedBeforeAllocating) {
+  fs::path path = fs::temp_directory_path() / ("lightbench-exr-huge-" + std::to_string(getpid()) + ".exr");
+  {
+    Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i((1 << 22) - 1, (1 << 20) - 1));
+    Imf::Header header(window, window);
+    header.channels().insert("R", Imf::Channel(Imf::FLOAT));
+    header.channels().insert("G", Imf::Channel(Imf::FLOAT));
+    header.channels().insert("B", Imf::Channel(Imf::FLOAT));
+    Imf::OutputFile file(path.c_str(), header);  // no pixels written: only the header and empty offsets
+  }
+  std::string message = "no error";
+  try {
+    readExr(path.string());
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("data window (4194304 x 1048576 pixels) would need"), std::string::npos) << message;
+  fs::remove(path);
+}
+
 }  // namespace
 }  // namespace lb
