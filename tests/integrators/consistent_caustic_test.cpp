@@ -105,11 +105,9 @@ const ConsistentMethod PhotonMethod{"photon",
                                     4};
 // On the glass sphere the caustic has structure finer than a pixel, so a
 // pixel's value also needs many well-spread camera samples: with 4
-// independent ones per pixel the seeds' means there are heavy-tailed (most
-// miss the caustic's core, a few hit it) and their spread understates the
-// noise. Stratified 8 × 8 camera samples make that noise small beside the
-// photon map's.
-const std::string Stratified = "sampler: {type: stratified, strata: 8}";
+// independent ones per pixel the seeds' means there are heavy-tailed and
+// their spread understates the noise. Stratified 8 × 8 camera samples make
+// that noise small beside the photon map's.
 const ConsistentMethod StratifiedPhotonMethod{"photon",
                                               [](double p, const Scale& s) {
                                                 return "{caustic_photons: " + std::to_string(int(s.photons / (p * p))) +
@@ -126,16 +124,7 @@ const ConsistentMethod FixedRadiusPhotonMethod{"photon",
                                                         std::to_string(s.radius * p) + "}";
                                                },
                                                64, Stratified};
-const ConsistentMethod SppmMethod{"sppm",
-                                  [](double p, const Scale& s) {
-                                    return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " +
-                                           std::to_string(s.radius * p) + "}";
-                                  },
-                                  24};
 
-const ConsistentScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 24, {0.05, 1e6}};
-const ConsistentScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
-const ConsistentScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
 
 const ConsistentCase SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSphere, StratifiedPhotonMethod, 16},
     FixedPhotonGlass{GlassSphere, FixedRadiusPhotonMethod, 8}, SppmRing{MetalRing, SppmMethod, 8},

@@ -87,16 +87,7 @@ const ConsistentMethod PhotonMethod{"photon",
                                              ", final_gather: 2, k: 30}";
                                     },
                                     4};
-const ConsistentMethod SppmMethod{"sppm",
-                                  [](double p, const Scale& s) {
-                                    return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " +
-                                           std::to_string(s.radius * p) + "}";
-                                  },
-                                  24};
 
-const ConsistentScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 24, {0.05, 1e6}};
-const ConsistentScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
-const ConsistentScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
 // The shipped pool's sun is a sphere of radius 0.25 six units away: seen
 // through the water (L S D S E) only a camera path refracted onto it finds
 // it, so BDPT's reference there stays noisy (region sd 31 % at 8 × 128 spp;
@@ -122,7 +113,6 @@ const ConsistentMethod PathCacheMethod{"irradiance_cache",
                                          return "{a: " + std::to_string(0.15 * p) + ", record_image: false}";
                                        },
                                        4};
-const std::string Stratified = "sampler: {type: stratified, strata: 8}";
 const ConsistentMethod StratifiedCacheMethod{CacheMethod.integrator, CacheMethod.params, 64, Stratified};
 
 // 16 samples per pixel: one block of the pool's and Veach's 4 × 4 strata.

@@ -3,6 +3,18 @@
 #include <cstdio>
 
 namespace lb::test {
+
+const ConsistentScene GlassSphere{"caustic-glass-sphere", 128, 96, 48, 64, 24, {0.05, 1e6}};
+const ConsistentScene MetalRing{"metal-ring", 64, 48, 256, 64, 8, {0.2, 1e5}};
+const ConsistentScene EnclosedLight{"enclosed-light", 64, 48, 64, 64, 8, {0.2, 1e5}};
+const ConsistentMethod SppmMethod{"sppm",
+                                  [](double p, const Scale& s) {
+                                    return "{photons_per_pass: 20000, alpha: 0.99, initial_radius: " +
+                                           std::to_string(s.radius * p) + "}";
+                                  },
+                                  24};
+const std::string Stratified = "sampler: {type: stratified, strata: 8}";
+
 namespace {
 
 struct Setup {

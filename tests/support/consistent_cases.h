@@ -48,6 +48,18 @@ struct ConsistentCase {
   int seeds;
 };
 
+// Shared by both consistent test files (their tests set up each scene once,
+// keyed by name and variant):
+// the three caustic scenes, with R0 and N0 at p = 1 …
+extern const ConsistentScene GlassSphere, MetalRing, EnclosedLight;
+// … SPPM with its initial radius R0 p (alpha 0.99: the radius stays almost
+// fixed, 24 passes × 20000 photons) …
+extern const ConsistentMethod SppmMethod;
+// … and stratified 8 × 8 camera samples, for caustics finer than a pixel:
+// with few independent camera samples a pixel's value there is heavy-tailed
+// over seeds (most samples miss the core, a few hit it).
+extern const std::string Stratified;
+
 // The method at p = ps[0] > ps[1] > … within c × p of BDPT and shrinking
 // (expectBiasWithinAndShrinking at level alpha, Šidák over regions,
 // channels and levels).
