@@ -1,9 +1,11 @@
 #include "core/scene_loader.h"
 #include "core/memory.h"
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
 #include <map>
 #include "core/bsdfs/material_factory.h"
 #include "core/lights/directional_light.h"
@@ -148,13 +150,27 @@ Color nonNegative(Params& p, const std::string& key, Color fallback) {
   return c;
 }
 
+// A point or spot light's intensity times s²: world_scale leaves the image
+// unchanged. A finite intensity can overflow a float once scaled (1e30 at
+// world_scale 1e6 is 1e42), which would render black: refused instead.
+Color scaledIntensity(Params& p, float s) {
+  Color I = nonNegative(p, "intensity", Color(1.f));
+  double largest = double(std::max({I.r, I.g, I.b})) * double(s) * double(s);
+  if (!(largest <= double(std::numeric_limits<float>::max()))) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "%g times world_scale² (%g²) is %g, beyond a float's range", double(std::max({I.r, I.g, I.b})),
+                  double(s), largest);
+    p.fail("intensity", msg);
+  }
+  return I * s * s;
+}
+
 void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
   std::string type = p.getChoice("type", "", {"point", "spot", "directional", "environment"});
   float s = ctx.worldScale;
-  // Intensities scale with s² so that world_scale leaves the image unchanged.
   if (type == "point") {
     Vec3 pos = p.requireVec3("position") * s;
-    scene.addLight(std::make_unique<PointLight>(pos, nonNegative(p, "intensity", Color(1.f)) * s * s));
+    scene.addLight(std::make_unique<PointLight>(pos, scaledIntensity(p, s)));
   } else if (type == "spot") {
     Vec3 pos = p.requireVec3("position") * s;
     Vec3 target = p.requireVec3("look_at") * s;
@@ -162,7 +178,7 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     float cone = p.getFloat("cone_angle", 30), start = p.getFloat("falloff_start", cone * 0.8f);
     if (!(cone > 0 && cone < 180)) p.fail("cone_angle", "must be in (0, 180) degrees");
     if (!(start >= 0 && start <= cone)) p.fail("falloff_start", "must be in [0, cone_angle]");
-    scene.addLight(std::make_unique<SpotLight>(pos, target - pos, nonNegative(p, "intensity", Color(1.f)) * s * s, cone, start));
+    scene.addLight(std::make_unique<SpotLight>(pos, target - pos, scaledIntensity(p, s), cone, start));
   } else if (type == "directional") {
     Vec3 dir = p.requireVec3("direction");
     if (glm::length(dir) == 0) p.fail("direction", "must not be zero");

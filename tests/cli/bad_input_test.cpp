@@ -250,4 +250,12 @@ TEST_F(BadInput, FilmTooLargeForMemory) {
   EXPECT_NE(r.err.find("1000000 x 1000000 film"), std::string::npos) << r.err;
 }
 
+// A finite intensity that overflows a float once world_scale² multiplies it
+// rendered black (issue 12): refused, naming the light's intensity.
+TEST_F(BadInput, IntensityOverflowingUnderWorldScale) {
+  std::string lights = "world_scale: 1e6\nlights: [{type: point, position: [0, 3, 0], intensity: 1e30}]\n";
+  RunResult r = render(write("s.yaml", scene("", lights)));
+  expectError(r, "s.yaml:6", "lights[0].intensity", "beyond a float's range");
+}
+
 }  // namespace
