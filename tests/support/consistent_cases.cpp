@@ -13,7 +13,6 @@ const ConsistentMethod SppmMethod{"sppm",
                                            std::to_string(s.radius * p) + "}";
                                   },
                                   24};
-const std::string Stratified = "sampler: {type: stratified, strata: 8}";
 
 namespace {
 

@@ -57,8 +57,13 @@ extern const ConsistentScene GlassSphere, MetalRing, EnclosedLight;
 extern const ConsistentMethod SppmMethod;
 // … and stratified 8 × 8 camera samples, for caustics finer than a pixel:
 // with few independent camera samples a pixel's value there is heavy-tailed
-// over seeds (most samples miss the core, a few hit it).
-extern const std::string Stratified;
+// over seeds (most samples miss the core, a few hit it). A constant, not a
+// std::string: methods in other files copy it while they are initialised,
+// and the order of dynamic initialisation across files is unspecified (an
+// extern std::string was read empty, unstratified, in one build).
+constexpr const char* Stratified = "sampler: {type: stratified, strata: 8}";
+// The scenes and SppmMethod above are only referred to by other files'
+// globals (ConsistentCase holds references), never copied at start-up.
 
 // The method at p = ps[0] > ps[1] > … within c × p of BDPT and shrinking
 // (expectBiasWithinAndShrinking at level alpha, Šidák over regions,
