@@ -217,7 +217,10 @@ void checkMappings(const YAML::Node& node, const std::string& file, const std::s
   if (!node.IsMap()) return;
   std::map<std::string, int> firstLine;
   for (auto it = node.begin(); it != node.end(); ++it) {
-    const YAML::Node& k = it->first;
+    // A copy (a Node is a handle): yaml-cpp's iterator hands out a proxy
+    // that dies at the end of the expression, so a reference to it->first
+    // dangles (ASan: stack-use-after-scope, found by fuzz_scene).
+    const YAML::Node k = it->first;
     int line = k.Mark().line + 1;
     if (!k.IsScalar())
       throw ConfigError(file, line, context, "a key must be a plain name, got " + shapeOf(k));
