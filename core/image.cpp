@@ -7,7 +7,9 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <unistd.h>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -81,6 +83,41 @@ std::array<std::string, 3> rgbChannels(const Imf::ChannelList& channels) {
   }
   throw std::runtime_error("no R, G, B (or Y) channels; found: " + (found.empty() ? std::string("none") : found));
 }
+
+// The fewest bytes a scanline EXR can hold its data window in, from the file
+// layout (OpenEXR "Technical Introduction", "Scan Lines" and "Data
+// Compression"): every chunk of scan lines has an 8-byte entry in the offset
+// table and an 8-byte chunk header; uncompressed data is stored whole; zlib
+// (ZIP, ZIPS) cannot shrink data more than 1032:1 (zlib's documented limit for
+// deflate) and OpenEXR's RLE stores at most 127 equal bytes in 2. For the
+// other codecs only the per-chunk overhead is counted. A header declaring more
+// pixels than its file can hold is corrupt; reading it would allocate the
+// image first (found by fuzz_exr: 361 bytes declaring 7.5 million ZIP pixels).
+double minimumScanlineFileBytes(const Imf::Header& header, int64_t w, int64_t h) {
+  int linesPerChunk = 1;
+  switch (header.compression()) {
+    case Imf::ZIP_COMPRESSION: case Imf::PXR24_COMPRESSION: linesPerChunk = 16; break;
+    case Imf::PIZ_COMPRESSION: case Imf::B44_COMPRESSION: case Imf::B44A_COMPRESSION:
+    case Imf::DWAA_COMPRESSION: linesPerChunk = 32; break;
+    case Imf::DWAB_COMPRESSION: linesPerChunk = 256; break;
+    default: break;
+  }
+  double chunks = std::ceil(double(h) / linesPerChunk);
+  double rawBytes = 0;
+  for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
+    const Imf::Channel& ch = c.channel();
+    double samples = double(w) * double(h) / std::max(1, ch.xSampling * ch.ySampling);
+    rawBytes += samples * (ch.type == Imf::HALF ? 2 : 4);
+  }
+  double data = 0;
+  switch (header.compression()) {
+    case Imf::NO_COMPRESSION: data = rawBytes; break;
+    case Imf::ZIP_COMPRESSION: case Imf::ZIPS_COMPRESSION: data = rawBytes / 1032; break;
+    case Imf::RLE_COMPRESSION: data = rawBytes * 2 / 127; break;
+    default: break;
+  }
+  return 16 * chunks + data;
+}
 }  // namespace
 
 Image readExr(const std::string& path) {
@@ -100,6 +137,18 @@ Image readExr(const std::string& path) {
       std::snprintf(msg, sizeof msg, "its data window (%lld x %lld pixels) would need %.3g GiB, more than the memory available",
                     (long long)w, (long long)h, bytes / (1 << 30));
       throw std::runtime_error(msg);
+    }
+    if (!file.header().hasTileDescription()) {
+      double need = minimumScanlineFileBytes(file.header(), w, h);
+      std::error_code ec;
+      auto have = std::filesystem::file_size(path, ec);
+      if (!ec && double(have) < need) {
+        char msg[200];
+        std::snprintf(msg, sizeof msg, "its header declares %lld x %lld pixels, which need at least %.0f bytes, "
+                      "but the file has %llu: truncated or corrupt", (long long)w, (long long)h, need,
+                      (unsigned long long)have);
+        throw std::runtime_error(msg);
+      }
     }
     Image image{int(w), int(h)};
     Imf::FrameBuffer fb;

@@ -236,6 +236,18 @@ YAML::Node loadYamlFile(const std::string& path) {
   // "basic_filebuf::underflow".
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw ConfigError(path, 0, "", "is a directory, not a YAML file");
+  // yaml-cpp builds a node per scalar: a dense flow list costs ~230 bytes of
+  // memory and ~1.5 µs per byte of YAML (16 MiB of "[0,0,...]": 25 s, 3.9 GB).
+  // A scene or experiment is written by hand and references its meshes, so
+  // its YAML is kilobytes; a file this large is a mistake (a mesh pasted in,
+  // the wrong file), and is refused before parsing rather than after a minute.
+  auto bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > kMaxYamlBytes) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "is %.1f MiB; YAML files are read up to %.0f MiB (put meshes in OBJ/PLY files)",
+                  double(bytes) / (1 << 20), double(kMaxYamlBytes) / (1 << 20));
+    throw ConfigError(path, 0, "", msg);
+  }
   std::ifstream in(path);
   if (!in) throw ConfigError(path, 0, "", "cannot open file");
   YAML::Node root;

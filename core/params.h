@@ -3,6 +3,7 @@
 // recorded; checkUnused() then rejects any key nobody read, naming its line and
 // the closest valid key ("did you mean"). Numbers must be finite.
 #include <yaml-cpp/yaml.h>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <set>
@@ -79,6 +80,10 @@ class Params {
 
 // Closest candidate by edit distance, or "" if none is close.
 std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);
+
+// The largest YAML file loadYamlFile reads (2 MiB: at most ~3 s and ~500 MB
+// for yaml-cpp on the worst case, a dense flow list).
+constexpr uintmax_t kMaxYamlBytes = uintmax_t(2) << 20;
 
 // Loads a YAML file; malformed YAML becomes a ConfigError at the parser's line.
 // The loaded document has passed checkMappings().

@@ -188,7 +188,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     if (!m.IsSequence()) p.fail("metrics", "expected a list, e.g. [rmse, relmse]");
     e.metrics.clear();
     for (const auto& item : m) {
-      std::string name = item.as<std::string>();
+      if (!item.IsScalar()) p.fail("metrics", "each metric is a name (rmse, relmse, mape, variance), not a list or mapping");
+      std::string name = item.Scalar();
       if (name != "rmse" && name != "relmse" && name != "mape" && name != "variance")
         p.fail("metrics", "unknown metric '" + name + "' (expected rmse, relmse, mape, variance)");
       e.metrics.push_back(name);

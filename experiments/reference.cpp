@@ -81,8 +81,9 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     std::cerr << "reference: " << exr.string() << " (cached)\n";
     Reference r{readExr(exr.string())};
     if (std::filesystem::exists(sidecar)) {
-      YAML::Node info = YAML::LoadFile(sidecar.string());
-      if (info["variance_of_mean"]) r.varianceOfMean = info["variance_of_mean"].as<double>();
+      // The sidecar is ours, but a user may have edited or truncated it.
+      Params info(loadYamlFile(sidecar.string()), sidecar.string(), "");
+      if (info.has("variance_of_mean")) r.varianceOfMean = info.getFloat("variance_of_mean", 0);
     }
     return r;
   }

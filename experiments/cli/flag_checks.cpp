@@ -1,4 +1,8 @@
 #include "experiments/cli/flag_checks.h"
+#include <fcntl.h>
+#include <unistd.h>
+#include <cerrno>
+#include <cstring>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -84,6 +88,25 @@ CLI::Validator exrFileName() {
         return std::string();
       },
       "FILE.exr");
+}
+
+ConfigError flagError(const std::string& flag, const std::string& message) {
+  return ConfigError("command line", 0, flag, message);
+}
+
+void checkWritableFolder(const std::string& flag, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path existing = dir.empty() ? fs::path(".") : dir;
+  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing.parent_path() != existing)
+    existing = existing.parent_path();
+  if (!fs::exists(existing, ec)) existing = ".";
+  if (!fs::is_directory(existing, ec)) throw flagError(flag, "not a folder: " + existing.string());
+  fs::path probe = existing / (".lightbench-write-test-" + std::to_string(::getpid()));
+  int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd < 0 && errno != EEXIST)
+    throw flagError(flag, "folder is not writable: " + existing.string() + " (" + std::strerror(errno) + ")");
+  if (fd >= 0) ::close(fd), ::unlink(probe.c_str());
 }
 
 }  // namespace lb

@@ -4,7 +4,9 @@
 // which turns "-1" and "2^64" into 2^64-1 and accepts "0x10" or "010". A
 // failed check becomes one line "--flag: must be ..., got '...'".
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <string>
+#include "core/error.h"
 
 namespace lb {
 
@@ -19,6 +21,15 @@ CLI::Validator pixelCoordinates();
 // An EXR file name: the PNG preview and the configuration are written beside
 // it under the same stem, so any other extension would be overwritten.
 CLI::Validator exrFileName();
+
+// A ConfigError about a flag: "command line: 'flag': message".
+ConfigError flagError(const std::string& flag, const std::string& message);
+// Throws flagError(flag, ...) unless a file can be created in `dir`, or, when
+// `dir` does not exist yet, in its nearest existing ancestor (where it would
+// be created). The test creates and removes a file: access(W_OK) says yes to
+// root on a read-only folder and on /proc, and the failure would otherwise
+// come after the render.
+void checkWritableFolder(const std::string& flag, const std::filesystem::path& dir);
 
 // Strict "X,Y" parsing shared by the validator and the render command.
 bool parsePixel(const std::string& text, int& x, int& y);

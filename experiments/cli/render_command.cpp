@@ -25,11 +25,6 @@ struct IntegratorChoice {
   int line = 0;
 };
 
-// Errors about a flag name the flag, not the scene file.
-ConfigError flagError(const std::string& flag, const std::string& message) {
-  return ConfigError("command line", 0, flag, message);
-}
-
 void checkIntegratorName(const std::string& name) {
   std::vector<std::string> names;
   for (const auto& e : integratorRegistry())
@@ -93,7 +88,7 @@ void checkOutputs(const std::string& output) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) throw flagError("--output", "folder does not exist: " + dir.string());
   if (!fs::is_directory(dir, ec)) throw flagError("--output", "not a folder: " + dir.string());
-  if (::access(dir.c_str(), W_OK | X_OK) != 0) throw flagError("--output", "folder is not writable: " + dir.string());
+  checkWritableFolder("--output", dir);
   std::string stem = stemPath(output);
   for (const std::string& path : {output, stem + ".png", stem + ".config.yaml"})
     if (fs::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");

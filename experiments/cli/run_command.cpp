@@ -2,6 +2,7 @@
 #include <iostream>
 #include "experiments/cli/commands.h"
 #include "core/error.h"
+#include "experiments/cli/flag_checks.h"
 #include "experiments/runner.h"
 
 namespace lb {
@@ -11,6 +12,8 @@ int runExperimentCommand(const RunArgs& args) {
     ExperimentOptions eo;
     eo.quick = args.quick;
     Experiment e = loadExperiment(args.experiment, eo);
+    // Before any reference renders: the results folder (created if missing).
+    checkWritableFolder("--results", args.results);
     RunnerOptions ro;
     ro.resultsRoot = args.results;
     ro.resume = args.resume;

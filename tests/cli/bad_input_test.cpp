@@ -2,6 +2,7 @@
 // 2, and no output file. These run the real `lightbench` binary.
 #include <algorithm>
 #include "core/image.h"
+#include "core/params.h"
 #include "tests/support/bad_input_fixture.h"
 
 namespace {
@@ -256,6 +257,14 @@ TEST_F(BadInput, IntensityOverflowingUnderWorldScale) {
   std::string lights = "world_scale: 1e6\nlights: [{type: point, position: [0, 3, 0], intensity: 1e30}]\n";
   RunResult r = render(write("s.yaml", scene("", lights)));
   expectError(r, "s.yaml:6", "lights[0].intensity", "beyond a float's range");
+}
+
+// A 100 MB YAML file used to end in std::bad_alloc after ~50 s; anything over
+// the limit is refused from its size, before parsing.
+TEST_F(BadInput, YamlFileTooLargeIsRefusedBeforeParsing) {
+  std::string text = scene("");
+  text += "# " + std::string(lb::kMaxYamlBytes, 'x') + "\n";
+  expectError(render(write("s.yaml", text)), "s.yaml", "", "YAML files are read up to 2 MiB");
 }
 
 }  // namespace

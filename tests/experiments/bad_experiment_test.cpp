@@ -21,6 +21,7 @@
 #include "core/image.h"
 #include "experiments/run_lock.h"
 #include "experiments/runner.h"
+#include "tests/support/render_helpers.h"
 
 namespace fs = std::filesystem;
 
@@ -178,6 +179,41 @@ TEST_F(BadExperiment, ParameterErrorsNameTheirLine) {
   expectRefused("exp.yaml:4: 'scenes[0].reference.params.nee'");
 }
 
+// A metric given as a list used to end in yaml-cpp's "bad conversion", exit 1.
+TEST_F(BadExperiment, AMetricThatIsNotANameIsRefused) {
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "metrics: [rmse, [relmse]]\n");
+  expectRefused("exp.yaml:11: 'metrics': each metric is a name");
+}
+
+// A corrupt cached reference sidecar (results/references/*.yaml) is named, not
+// "bad conversion".
+TEST_F(BadExperiment, ACorruptCachedReferenceSidecarIsNamed) {
+  writeExperiment("{integrator: path, spp: 1}");
+  std::string err;
+  fs::path results = dir_ / "results";
+  ASSERT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + results.string(), &err), 0) << err;
+  fs::path sidecar;
+  for (const auto& f : fs::directory_iterator(results / "references"))
+    if (f.path().extension() == ".yaml") sidecar = f.path();
+  ASSERT_FALSE(sidecar.empty());
+  std::ofstream(sidecar, std::ios::app) << "variance_of_mean: [1]\n";
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + results.string(), &err), 2) << err;
+  EXPECT_NE(err.find(sidecar.filename().string()), std::string::npos) << err;
+  EXPECT_NE(err.find("variance_of_mean"), std::string::npos) << err;
+}
+
+// An unwritable --results used to fail with exit 1 and a filesystem error;
+// /proc refuses new files even to root. A file in the way is not a folder.
+TEST_F(BadExperiment, AnUnwritableResultsFolderIsRefusedBeforeRendering) {
+  writeExperiment("{integrator: path, spp: 1}");
+  std::string err;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results /proc/lightbench-results", &err), 2) << err;
+  EXPECT_NE(err.find("command line: '--results': folder is not writable: /proc"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "ref.exr" / "results").string(), &err), 2);
+  EXPECT_NE(err.find("'--results': not a folder: " + (dir_ / "ref.exr").string()), std::string::npos) << err;
+}
+
 TEST_F(BadExperiment, NamesThatWouldEscapeTheResultsFolderAreRefused) {
   // (Each would land inside this test's folder if accepted: results/../x is dir_/x.)
   fs::path outside = dir_ / "outside";
@@ -302,6 +338,37 @@ TEST(ReadExr, AHugeDataWindowIsRefusedBeforeAllocating) {
     message = e.what();
   }
   EXPECT_NE(message.find("data window (4194304 x 1048576 pixels) would need"), std::string::npos) << message;
+  fs::remove(path);
+}
+
+// A header declaring more pixels than its file can hold is refused from the
+// header, before the image is allocated: fuzz_exr found this 361-byte file
+// declaring 7563621 x 1 ZIP pixels (45 MB of data, which zlib cannot shrink
+// more than 1032:1); reading it allocated 90 MB and took 8 s under ASan. The
+// same check on a file cut short after its header (NO_COMPRESSION).
+TEST(ReadExr, AHeaderDeclaringMorePixelsThanTheFileHoldsIsRefused) {
+  auto message = [](const std::string& path) {
+    try {
+      readExr(path);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  std::string fuzzed = message(test::sourcePath("tests/data/exr/zip-7563621x1-pixels-in-361-bytes.exr"));
+  EXPECT_NE(fuzzed.find("declares 7563621 x 1 pixels, which need at least 87965 bytes, but the file has 361"),
+            std::string::npos) << fuzzed;
+
+  fs::path path = fs::temp_directory_path() / ("lightbench-exr-short-" + std::to_string(getpid()) + ".exr");
+  {
+    Imath::Box2i window(Imath::V2i(0, 0), Imath::V2i(999, 999));
+    Imf::Header header(window, window);
+    header.compression() = Imf::NO_COMPRESSION;
+    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::HALF));
+    Imf::OutputFile file(path.c_str(), header);  // header and offset table only: 6 MB of pixels missing
+  }
+  std::string cut = message(path.string());
+  EXPECT_NE(cut.find("declares 1000 x 1000 pixels, which need at least 6016000 bytes"), std::string::npos) << cut;
   fs::remove(path);
 }
 
