@@ -40,6 +40,19 @@ KeyLocation locate(const Params& p, const std::string& key) {
   return {where.file(), where.key(), where.line()};
 }
 
+// "" if `path` exists, else why not: exists() that throws on a path the
+// system refuses (a name too long, a loop of links) would end the run with a
+// bare filesystem error instead of naming the key (found by fuzz_experiment).
+std::string whyMissing(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) return "";
+  return ec ? " (" + ec.message() + ")" : "";
+}
+bool missing(const std::string& path) {
+  std::error_code ec;
+  return !std::filesystem::exists(path, ec);
+}
+
 ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options,
                             KeyLocation* at) {
   ReferenceSpec r;
@@ -49,12 +62,12 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
   if (ref->has("file")) {
     *at = locate(*ref, "file");
     r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
-    if (!std::filesystem::exists(r.file)) ref->fail("file", "reference image not found: " + r.file);
+    if (missing(r.file)) ref->fail("file", "reference image not found: " + r.file + whyMissing(r.file));
   } else {
     if (ref->has("scene")) {
       *at = locate(*ref, "scene");
       r.scene = (std::filesystem::path(folder) / ref->getString("scene", "")).lexically_normal().string();
-      if (!std::filesystem::exists(r.scene)) ref->fail("scene", "reference scene not found: " + r.scene);
+      if (missing(r.scene)) ref->fail("scene", "reference scene not found: " + r.scene + whyMissing(r.scene));
     }
     r.integrator = ref->getString("integrator", "path");
     if (!integratorExists(r.integrator))
@@ -99,7 +112,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   for (Params& sp : p.getList("scenes")) {
     ExperimentScene s;
     s.path = (std::filesystem::path(folder) / sp.requireString("scene")).lexically_normal().string();
-    if (!std::filesystem::exists(s.path)) sp.fail("scene", "scene file not found: " + s.path);
+    if (missing(s.path)) sp.fail("scene", "scene file not found: " + s.path + whyMissing(s.path));
     s.sceneAt = locate(sp, "scene");
     s.name = sp.getString("name", std::filesystem::path(s.path).stem().string());
     if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)

@@ -172,6 +172,18 @@ TEST_F(BadExperiment, BrokenSceneFailsBeforeAnythingIsWritten) {
   EXPECT_NE(err.find("'bogus_key': unknown key"), std::string::npos) << err;
 }
 
+// A path the system refuses (a file name over NAME_MAX) ended the run with a
+// bare "filesystem error: status: File name too long" (found by
+// fuzz_experiment in strict mode).
+TEST_F(BadExperiment, AScenePathTheSystemRefusesNamesItsKey) {
+  writeExperiment();
+  std::string text = readFile(dir_ / "exp.yaml");
+  text.replace(text.find("scene.yaml"), 10, std::string(300, 's') + ".yaml");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  expectRefused("exp.yaml:2: 'scenes[0].scene': scene file not found: ");
+  EXPECT_NE(readFile(dir_ / "stderr.txt").find("(File name too long)"), std::string::npos);
+}
+
 TEST_F(BadExperiment, ParameterErrorsNameTheirLine) {
   writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: powr}");
   expectRefused("exp.yaml:8: 'configurations[1].params.mis': unknown value 'powr'");
