@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <openexr.h>
 #include <png.h>
 #include <unistd.h>
 #include <algorithm>
@@ -84,72 +85,92 @@ std::array<std::string, 3> rgbChannels(const Imf::ChannelList& channels) {
   throw std::runtime_error("no R, G, B (or Y) channels; found: " + (found.empty() ? std::string("none") : found));
 }
 
-// The fewest bytes a scanline EXR can hold its data window in, from the file
-// layout (OpenEXR "Technical Introduction", "Scan Lines" and "Data
-// Compression"): every chunk of scan lines has an 8-byte entry in the offset
-// table and an 8-byte chunk header; uncompressed data is stored whole; zlib
-// (ZIP, ZIPS) cannot shrink data more than 1032:1 (zlib's documented limit for
-// deflate) and OpenEXR's RLE stores at most 127 equal bytes in 2. For the
-// other codecs only the per-chunk overhead is counted. A header declaring more
-// pixels than its file can hold is corrupt; reading it would allocate the
-// image first (found by fuzz_exr: 361 bytes declaring 7.5 million ZIP pixels).
-double minimumScanlineFileBytes(const Imf::Header& header, int64_t w, int64_t h) {
-  int linesPerChunk = 1;
-  switch (header.compression()) {
-    case Imf::ZIP_COMPRESSION: case Imf::PXR24_COMPRESSION: linesPerChunk = 16; break;
-    case Imf::PIZ_COMPRESSION: case Imf::B44_COMPRESSION: case Imf::B44A_COMPRESSION:
-    case Imf::DWAA_COMPRESSION: linesPerChunk = 32; break;
-    case Imf::DWAB_COMPRESSION: linesPerChunk = 256; break;
-    default: break;
+// Reads an EXR's header alone and refuses one that cannot be a readable image
+// before Imf::InputFile sees it: InputFile allocates its line buffers from
+// the header as it opens the file (fuzz_exr: 363 bytes declaring 7.5 million
+// pixels a line made it allocate 720 MB). OpenEXR's core C API reads only the
+// header, and reports errors through a callback instead of printing them.
+// Refused: a data window beyond int, or larger than the memory available;
+// a file smaller than its declared pixels can be stored in.
+void checkExrHeader(const std::string& path) {
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  std::string error;
+  init.user_data = &error;
+  init.error_handler_fn = [](exr_const_context_t ctxt, exr_result_t code, const char* msg) {
+    void* user = nullptr;
+    if (exr_get_user_data(ctxt, &user) == EXR_ERR_SUCCESS && user && static_cast<std::string*>(user)->empty())
+      *static_cast<std::string*>(user) = msg ? msg : exr_get_default_error_message(code);
+  };
+  exr_context_t ctxt = nullptr;
+  exr_result_t rv = exr_start_read(&ctxt, path.c_str(), &init);
+  struct Finish {
+    exr_context_t* c;
+    ~Finish() { exr_finish(c); }
+  } finish{&ctxt};
+  if (rv != EXR_ERR_SUCCESS) throw std::runtime_error(error.empty() ? exr_get_default_error_message(rv) : error);
+
+  exr_attr_box2i_t dw;
+  exr_storage_t storage;
+  exr_compression_t compression;
+  const exr_attr_chlist_t* channels = nullptr;
+  int32_t chunks = 0, linesPerChunk = 1;
+  if (exr_get_data_window(ctxt, 0, &dw) != EXR_ERR_SUCCESS || exr_get_storage(ctxt, 0, &storage) != EXR_ERR_SUCCESS ||
+      exr_get_compression(ctxt, 0, &compression) != EXR_ERR_SUCCESS ||
+      exr_get_channels(ctxt, 0, &channels) != EXR_ERR_SUCCESS || !channels ||
+      exr_get_chunk_count(ctxt, 0, &chunks) != EXR_ERR_SUCCESS)
+    throw std::runtime_error(error.empty() ? "incomplete header" : error);
+  if (storage == EXR_STORAGE_SCANLINE) exr_get_scanlines_per_chunk(ctxt, 0, &linesPerChunk);
+  if (dw.max.x < dw.min.x || dw.max.y < dw.min.y) throw std::runtime_error("empty data window");
+  int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+
+  double bytes = double(w) * double(h) * sizeof(Color);
+  if (w > INT32_MAX || h > INT32_MAX || bytes > 0.9 * availableMemoryBytes()) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "its data window (%lld x %lld pixels) would need %.3g GiB, more than the memory available",
+                  (long long)w, (long long)h, bytes / (1 << 30));
+    throw std::runtime_error(msg);
   }
-  double chunks = std::ceil(double(h) / linesPerChunk);
-  double rawBytes = 0;
-  for (auto c = header.channels().begin(); c != header.channels().end(); ++c) {
-    const Imf::Channel& ch = c.channel();
-    double samples = double(w) * double(h) / std::max(1, ch.xSampling * ch.ySampling);
-    rawBytes += samples * (ch.type == Imf::HALF ? 2 : 4);
+
+  // The fewest bytes the file can hold its pixels in (OpenEXR "Technical
+  // Introduction", "Scan Lines" and "Data Compression"): every chunk has an
+  // 8-byte entry in the offset table, and a scanline chunk an 8-byte header;
+  // uncompressed data is stored whole; zlib (ZIP, ZIPS) cannot shrink data
+  // more than 1032:1 (zlib's documented limit for deflate) and OpenEXR's RLE
+  // stores at most 127 equal bytes in 2. For the other codecs, and for tiled
+  // files, only the per-chunk overhead is counted.
+  double need = 8.0 * chunks;
+  if (storage == EXR_STORAGE_SCANLINE) {
+    need += 8.0 * chunks;
+    double raw = 0;
+    for (int i = 0; i < channels->num_channels; ++i) {
+      const exr_attr_chlist_entry_t& c = channels->entries[i];
+      double samples = double(w) * double(h) / std::max(1.0, double(c.x_sampling) * double(c.y_sampling));
+      raw += samples * (c.pixel_type == EXR_PIXEL_HALF ? 2 : 4);
+    }
+    if (compression == EXR_COMPRESSION_NONE) need += raw;
+    else if (compression == EXR_COMPRESSION_ZIP || compression == EXR_COMPRESSION_ZIPS) need += raw / 1032;
+    else if (compression == EXR_COMPRESSION_RLE) need += raw * 2 / 127;
   }
-  double data = 0;
-  switch (header.compression()) {
-    case Imf::NO_COMPRESSION: data = rawBytes; break;
-    case Imf::ZIP_COMPRESSION: case Imf::ZIPS_COMPRESSION: data = rawBytes / 1032; break;
-    case Imf::RLE_COMPRESSION: data = rawBytes * 2 / 127; break;
-    default: break;
+  std::error_code ec;
+  auto have = std::filesystem::file_size(path, ec);
+  if (!ec && double(have) < need) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "its header declares %lld x %lld pixels, which need at least %.0f bytes, "
+                  "but the file has %llu: truncated or corrupt", (long long)w, (long long)h, need,
+                  (unsigned long long)have);
+    throw std::runtime_error(msg);
   }
-  return 16 * chunks + data;
 }
 }  // namespace
 
 Image readExr(const std::string& path) {
   try {
+    checkExrHeader(path);
     Imf::InputFile file(path.c_str());
     std::array<std::string, 3> names = rgbChannels(file.header().channels());
     bool grey = names[0] == names[1];
     Imath::Box2i dw = file.header().dataWindow();
-    if (dw.max.x < dw.min.x || dw.max.y < dw.min.y) throw std::runtime_error("empty data window");
-    // The header's data window sizes the image before any pixel is read: a
-    // corrupt or hostile header must not make us allocate what we cannot
-    // hold (found by fuzz_exr: a 1.9 KB file claiming 1000000 × 200 pixels).
     int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
-    double bytes = double(w) * double(h) * sizeof(Color);
-    if (w > INT32_MAX || h > INT32_MAX || bytes > 0.9 * availableMemoryBytes()) {
-      char msg[160];
-      std::snprintf(msg, sizeof msg, "its data window (%lld x %lld pixels) would need %.3g GiB, more than the memory available",
-                    (long long)w, (long long)h, bytes / (1 << 30));
-      throw std::runtime_error(msg);
-    }
-    if (!file.header().hasTileDescription()) {
-      double need = minimumScanlineFileBytes(file.header(), w, h);
-      std::error_code ec;
-      auto have = std::filesystem::file_size(path, ec);
-      if (!ec && double(have) < need) {
-        char msg[200];
-        std::snprintf(msg, sizeof msg, "its header declares %lld x %lld pixels, which need at least %.0f bytes, "
-                      "but the file has %llu: truncated or corrupt", (long long)w, (long long)h, need,
-                      (unsigned long long)have);
-        throw std::runtime_error(msg);
-      }
-    }
     Image image{int(w), int(h)};
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(image.pixels.data()) -
