@@ -1,4 +1,5 @@
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/subpaths.h"
 #include <filesystem>
 #include "integrators/pixel_tiles.h"
 
@@ -8,6 +9,7 @@ BdptSettings BdptSettings::read(Params& p) {
   BdptSettings s;
   s.length = PathLength::read(p);
   std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"});
+  using bidir::MisWeighting;
   s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
   s.strategyImages = p.getInt("strategy_images", 0);
   if (s.strategyImages < 0 || s.strategyImages > 8) p.fail("strategy_images", "must be in [0, 8] (path length in segments)");
@@ -50,12 +52,12 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1, lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
-    thread_local std::vector<bdpt::Vertex> camera, light;
+    thread_local std::vector<bidir::Vertex> camera, light;
     camera.resize(cameraCapacity), light.resize(lightCapacity);
     sampler.start(uint64_t(y) * W + x, pass);
     Vec2 raster = Vec2(x, y) + sampler.get2D();
-    int nCamera = bdpt::generateCameraSubpath(scene, sampler, settings_, raster, camera, rays);
-    int nLight = bdpt::generateLightSubpath(scene, sampler, settings_, light, rays);
+    int nCamera = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
+    int nLight = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
     Color L(0.f);
     // s = 1 samples its own light point, so it runs even when the light
     // subpath is empty (emission sampling failed).
@@ -63,7 +65,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
       for (int s = 0; s <= std::max(nLight, 1); ++s) {
         int segments = s + t - 1;
         if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
-        bdpt::Connection c = bdpt::connect(scene, sampler, settings_, light, camera, s, t, rays);
+        bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, light, camera, s, t, rays);
         if (isBlack(c.L) || c.weight == 0) continue;
         Color weighted = c.L * c.weight;
         if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel

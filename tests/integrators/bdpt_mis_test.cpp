@@ -11,13 +11,17 @@
 #include <algorithm>
 #include "core/sampler.h"
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/subpaths.h"
+#include "integrators/bidirectional/verification.h"
 #include "tests/support/path_pdfs.h"
 #include "tests/support/render_helpers.h"
 
 namespace lb::test {
 namespace {
 
-using bdpt::Vertex;
+using bidir::MisWeighting;
+
+using bidir::Vertex;
 
 // Floor, smooth glass, rough glass, a glossy and a mirror sphere: diffuse,
 // glossy and specular vertices, and glass chains; the light is appended.
@@ -78,7 +82,7 @@ double allowance(const std::vector<Vertex>& path, MisWeighting h) {
     float eps = gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(b.p))) / std::max(d, 1e-30f);
     float slope = 2 / sqr(0.2f);  // the roughest lobe slope the scenes' glossy materials reach near their peak
     for (const Vertex* v : {&a, &b})
-      if (v->type == bdpt::VertexType::Surface) {
+      if (v->type == bidir::VertexType::Surface) {
         float cos = absDot(v->ng, (b.p - a.p) / d);
         if (!(cos > 4 * eps)) return -1;
         slope += std::sqrt(std::max(0.f, 1 - cos * cos)) / std::max(cos, 1e-6f);
@@ -105,12 +109,12 @@ void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st) 
   int W = scene.camera.width(), H = scene.camera.height();
   for (uint64_t i = 0; i < samples; ++i) {
     sampler.start(i, 0);
-    int nc = bdpt::generateCameraSubpath(scene, sampler, settings, Vec2(sampler.get1D() * W, sampler.get1D() * H), camera, rays);
-    int nl = bdpt::generateLightSubpath(scene, sampler, settings, light, rays);
+    int nc = bidir::generateCameraSubpath(scene, sampler, settings.length, Vec2(sampler.get1D() * W, sampler.get1D() * H), camera, rays);
+    int nl = bidir::generateLightSubpath(scene, sampler, settings.length, light, rays);
     for (int t = 1; t <= nc; ++t)
       for (int s = 0; s <= std::max(nl, 1); ++s) {
         if ((s == 1 && t == 1) || s + t < 3 || s + t - 1 > 8) continue;
-        bdpt::Connection con = bdpt::connect(scene, sampler, settings, light, camera, s, t, rays);
+        bidir::Connection con = bidir::connect(scene, sampler, settings.mis, light, camera, s, t, rays);
         if (isBlack(con.L)) continue;
         std::vector<Vertex> path;
         if (t == 1) path.push_back(con.sampled);

@@ -3,13 +3,17 @@
 // cached subpath densities equal a fresh recomputation.
 #include <gtest/gtest.h>
 #include "core/sampler.h"
-#include "integrators/bdpt/verification.h"
+#include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/subpaths.h"
+#include "integrators/bidirectional/verification.h"
 #include "tests/support/render_helpers.h"
 
 namespace lb::test {
 namespace {
 
-using bdpt::Vertex;
+using bidir::MisWeighting;
+
+using bidir::Vertex;
 
 BdptSettings settings(int maxDepth) {
   BdptSettings s;
@@ -29,9 +33,9 @@ bool expectWeightsSumToOne(const Scene& scene, const std::vector<Vertex>& path, 
   // A path that reaches an emitter's unlit side carries nothing, and emission
   // sampling cannot produce it: the strategies that could are not defined.
   const Vertex& end = path.back();
-  if (end.type == bdpt::VertexType::Surface && isBlack(bdpt::emitted(scene, end, path[path.size() - 2]))) return false;
+  if (end.type == bidir::VertexType::Surface && isBlack(bidir::emitted(scene, end, path[path.size() - 2]))) return false;
   for (MisWeighting h : {MisWeighting::Balance, MisWeighting::Power, MisWeighting::Uniform}) {
-    auto w = bdpt::strategyWeights(scene, h, path);
+    auto w = bidir::strategyWeights(scene, h, path);
     double sum = 0;
     int possible = 0;
     for (float x : w)
@@ -54,7 +58,7 @@ TEST(Bdpt, MisWeightsSumToOneOnPathsEndingOnAreaLights) {
   int checked = 0, withDelta = 0;
   for (uint64_t i = 0; checked < 300 && i < 200000; ++i) {
     sampler.start(i, 0);
-    int n = bdpt::generateCameraSubpath(scene, sampler, settings(10), Vec2(sampler.get1D() * 32, sampler.get1D() * 32),
+    int n = bidir::generateCameraSubpath(scene, sampler, settings(10).length, Vec2(sampler.get1D() * 32, sampler.get1D() * 32),
                                         camera, rays);
     for (int k = 1; k < n; ++k)
       if (camera[size_t(k)].isLight()) {
@@ -81,11 +85,11 @@ TEST(Bdpt, MisWeightsSumToOneOnPathsFromAPointLight) {
   int checked = 0;
   for (uint64_t i = 0; checked < 300 && i < 200000; ++i) {
     sampler.start(i, 0);
-    int n = bdpt::generateLightSubpath(scene, sampler, settings(10), light, rays);
+    int n = bidir::generateLightSubpath(scene, sampler, settings(10).length, light, rays);
     if (n < 2) continue;
     int last = 1 + int(sampler.get1D() * float(n - 1));  // a random prefix y0 … y(last)
     if (!scene.camera.connect(light[size_t(last)].p)) continue;
-    std::vector<Vertex> path = {bdpt::cameraVertex(scene.camera, Color(1.f))};
+    std::vector<Vertex> path = {bidir::cameraVertex(scene.camera, Color(1.f))};
     for (int k = last; k >= 0; --k) path.push_back(light[size_t(k)]);
     checked += expectWeightsSumToOne(scene, path, "point light");
   }
@@ -101,7 +105,7 @@ TEST(Bdpt, MisWeightsSumToOneOnPathsFromAPointLight) {
 // receiving one (and, at a specular vertex, the incoming segment's error
 // moves its Fresnel probability). The bound: relative 1e-3 (glossy lobes' slope times float
 // rounding) plus 64 times that conditioning term.
-float tolerance(const std::vector<Vertex>& path, const bdpt::PdfMismatch& m) {
+float tolerance(const std::vector<Vertex>& path, const bidir::PdfMismatch& m) {
   int from = m.reverse ? m.vertex + 1 : m.vertex - 1;  // where the direction was sampled
   const Vertex &a = path[size_t(from)], &b = path[size_t(m.vertex)];
   float d = glm::length(b.p - a.p);
@@ -109,7 +113,7 @@ float tolerance(const std::vector<Vertex>& path, const bdpt::PdfMismatch& m) {
   // widened to its largest component in every direction (core/shape.cpp).
   float eps = std::sqrt(3.f) * gamma(7) * (maxComponent(glm::abs(a.p)) + maxComponent(glm::abs(b.p))) / std::max(d, 1e-30f);
   auto tanAt = [&](float cos) { return std::sqrt(std::max(0.f, 1 - cos * cos)) / std::max(cos, 1e-6f); };
-  float tanA = a.type == bdpt::VertexType::Surface ? tanAt(absDot(a.shadingNormal(), (b.p - a.p) / d)) : 0.f;
+  float tanA = a.type == bidir::VertexType::Surface ? tanAt(absDot(a.shadingNormal(), (b.p - a.p) / d)) : 0.f;
   float tanB = b.onSurface() ? tanAt(absDot(b.ng, (b.p - a.p) / d)) : 0.f;
   float bound = 1e-3f + 64 * eps * (1 + tanA + tanB);
   // A specular vertex's density is its Fresnel lobe probability, a function
@@ -143,7 +147,7 @@ TEST(Bdpt, MisWeightsSumToOneUnderDirectionalAndEnvironmentLights) {
     int checked = 0;
     for (uint64_t i = 0; checked < 200 && i < 100000; ++i) {
       sampler.start(i, 0);
-      int n = bdpt::generateCameraSubpath(*sf.scene, sampler, settings(10), Vec2(sampler.get1D() * 32, sampler.get1D() * 24),
+      int n = bidir::generateCameraSubpath(*sf.scene, sampler, settings(10).length, Vec2(sampler.get1D() * 32, sampler.get1D() * 24),
                                           camera, rays);
       if (n < 3 || !camera[size_t(n - 1)].isInfiniteLight()) continue;  // at least one bounce before escaping
       checked += expectWeightsSumToOne(*sf.scene, std::vector<Vertex>(camera.begin(), camera.begin() + n), "environment");
@@ -159,11 +163,11 @@ TEST(Bdpt, MisWeightsSumToOneUnderDirectionalAndEnvironmentLights) {
     int checked = 0;
     for (uint64_t i = 0; checked < 200 && i < 200000; ++i) {
       sampler.start(i, 0);
-      int n = bdpt::generateLightSubpath(*sf.scene, sampler, settings(10), light, rays);
+      int n = bidir::generateLightSubpath(*sf.scene, sampler, settings(10).length, light, rays);
       if (n < 2) continue;
       int last = 1 + int(sampler.get1D() * float(n - 1));
       if (!sf.scene->camera.connect(light[size_t(last)].p)) continue;
-      std::vector<Vertex> path = {bdpt::cameraVertex(sf.scene->camera, Color(1.f))};
+      std::vector<Vertex> path = {bidir::cameraVertex(sf.scene->camera, Color(1.f))};
       for (int k = last; k >= 0; --k) path.push_back(light[size_t(k)]);
       checked += expectWeightsSumToOne(*sf.scene, path, "directional");
     }
@@ -183,10 +187,10 @@ TEST(Bdpt, CachedDensitiesEqualRecomputation) {
     for (uint64_t i = 0; i < 2000; ++i) {
       for (bool lightPath : {false, true}) {
         sampler.start(i, lightPath);
-        int n = lightPath ? bdpt::generateLightSubpath(*sf.scene, sampler, settings(10), path, rays)
-                          : bdpt::generateCameraSubpath(*sf.scene, sampler, settings(10),
+        int n = lightPath ? bidir::generateLightSubpath(*sf.scene, sampler, settings(10).length, path, rays)
+                          : bidir::generateCameraSubpath(*sf.scene, sampler, settings(10).length,
                                                         Vec2(sampler.get1D() * 32, sampler.get1D() * 32), path, rays);
-        for (const auto& m : bdpt::checkSubpathPdfs(*sf.scene, path, n, lightPath)) {
+        for (const auto& m : bidir::checkSubpathPdfs(*sf.scene, path, n, lightPath)) {
           ++compared;
           ASSERT_NEAR(m.cached, m.recomputed, tolerance(path, m) * std::max(m.cached, m.recomputed) + 1e-30f)
               << name << (lightPath ? " light" : " camera") << " subpath, vertex " << m.vertex

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <fstream>
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/subpaths.h"
+#include "integrators/bidirectional/verification.h"
 #include "integrators/render_loop.h"
 #include "tests/support/render_helpers.h"
 

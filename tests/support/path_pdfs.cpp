@@ -3,10 +3,12 @@
 
 namespace lb::test {
 
+using bidir::MisWeighting;
+
 namespace {
 
-using bdpt::Vertex;
-using bdpt::VertexType;
+using bidir::Vertex;
+using bidir::VertexType;
 using DVec3 = glm::dvec3;
 
 DVec3 d3(const Vec3& v) { return DVec3(v); }

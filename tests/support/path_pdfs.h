@@ -23,17 +23,17 @@
 // Everything is evaluated in double from the vertices' positions, normals and
 // materials, calling only the BSDFs', lights' and camera's own pdfs.
 #include <vector>
-#include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/connect.h"
 
 namespace lb::test {
 
 // path[0] is the camera, path.back() the light end (an emitting surface, a
 // light vertex, or an escaped camera ray). Returns p_{s, n-s} for s = 0…n-1,
 // 0 where strategy s cannot generate the path.
-std::vector<double> strategyPdfsFromDefinition(const Scene& scene, const std::vector<bdpt::Vertex>& path);
+std::vector<double> strategyPdfsFromDefinition(const Scene& scene, const std::vector<bidir::Vertex>& path);
 
 // The heuristic applied to those densities: w_s = p_s^β / Σ_i p_i^β (β = 1
 // balance, 2 power); uniform: 1 / (number of strategies with p_i > 0).
-std::vector<double> weightsFromPdfs(const std::vector<double>& pdfs, MisWeighting h);
+std::vector<double> weightsFromPdfs(const std::vector<double>& pdfs, bidir::MisWeighting h);
 
 }  // namespace lb::test

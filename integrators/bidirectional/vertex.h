@@ -28,7 +28,7 @@
 #include "core/bsdfs/bsdf.h"
 #include "core/scene.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 enum class VertexType { Camera, Light, Surface };
 
@@ -76,4 +76,4 @@ float pdfLightNee(const Scene& scene, const Vertex& v, const Vertex& ref);
 // Radiance emitted from v towards `to` (area light surface or escaped ray).
 Color emitted(const Scene& scene, const Vertex& v, const Vertex& to);
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

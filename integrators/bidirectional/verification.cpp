@@ -1,6 +1,6 @@
-#include "integrators/bdpt/verification.h"
+#include "integrators/bidirectional/verification.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 namespace {
 // Area density of sampling `next` from v (arrived from prev). At a delta
@@ -87,4 +87,4 @@ std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std
   return weights;
 }
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

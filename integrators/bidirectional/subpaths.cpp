@@ -1,14 +1,14 @@
-// Camera and light subpaths for BDPT (pbrt-v3 §16.3.2 with Russian roulette).
-#include "integrators/bdpt/bdpt.h"
+// Camera and light subpaths (subpaths.h; pbrt-v3 §16.3.2 with Russian roulette).
+#include "integrators/bidirectional/subpaths.h"
 #include "integrators/emission.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 namespace {
 
 // Extends `path` from index `start` (whose vertex is path[start - 1]) by
 // sampling the BSDF at each hit; returns the number of vertices added.
-int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray ray, Color beta, float pdfFwd,
+int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ray, Color beta, float pdfFwd,
                int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays) {
   const float startThroughput = maxComponent(beta);
   const float rouletteScale = startThroughput > 0 ? 1 / startThroughput : 1.f;
@@ -50,7 +50,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
     // The throughput is taken relative to the walk's starting one: a light
     // subpath starts with the emitted flux, which scales with the scene's
     // area, and the decision must not depend on the scene's scale.
-    if (s.length.russianRoulette && start + added - 1 >= s.length.rrDepth) {
+    if (s.russianRoulette && start + added - 1 >= s.rrDepth) {
       float survive = std::min(1.f, maxComponent(beta) * etaScale * rouletteScale);
       if (sampler.get1D() >= survive) break;
       beta /= survive;
@@ -59,11 +59,11 @@ int randomWalk(const Scene& scene, Sampler& sampler, const BdptSettings& s, Ray 
   return added;
 }
 
-int maxSegments(const BdptSettings& s) { return s.length.maxSegments(); }
+int maxSegments(const PathLength& s) { return s.maxSegments(); }
 
 }  // namespace
 
-int generateCameraSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, Vec2 raster,
+int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, Vec2 raster,
                           std::vector<Vertex>& path, uint64_t& rays) {
   if (maxSegments(s) < 1) return 0;
   Ray ray = scene.camera.generateRay(raster);
@@ -77,7 +77,7 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const BdptSettin
                         TransportMode::Radiance, path, 1, rays);
 }
 
-int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSettings& s, std::vector<Vertex>& path,
+int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, std::vector<Vertex>& path,
                          uint64_t& rays) {
   if (maxSegments(s) < 1) return 0;
   auto emitted = sampleEmission(scene, sampler);
@@ -101,4 +101,4 @@ int generateLightSubpath(const Scene& scene, Sampler& sampler, const BdptSetting
   return n;
 }
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

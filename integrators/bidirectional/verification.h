@@ -1,11 +1,11 @@
 #pragma once
-// Verification routines for BDPT's bookkeeping (testing.md §4; the idea of
+// Verification routines for the bidirectional bookkeeping (testing.md §4; the idea of
 // Mitsuba 0.6's Path::verify): recompute every density from the BSDFs, lights
 // and camera, and evaluate all strategies' MIS weights for a complete path.
 #include <vector>
-#include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/connect.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 struct PdfMismatch {
   int vertex;
@@ -24,4 +24,4 @@ std::vector<PdfMismatch> checkSubpathPdfs(const Scene& scene, const std::vector<
 // cannot produce the path (a delta vertex or a delta light at its connection).
 std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std::vector<Vertex>& fullPath);
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

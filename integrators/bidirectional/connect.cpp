@@ -1,7 +1,7 @@
 // Connection strategies and their MIS weights (pbrt-v3 §16.3.3–16.3.4).
-#include "integrators/bdpt/bdpt.h"
+#include "integrators/bidirectional/connect.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 namespace {
 
@@ -128,7 +128,7 @@ float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, 
   return ownZero ? 0.f : 1 / (1 + sum);
 }
 
-Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& settings, std::vector<Vertex>& light,
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
                    std::vector<Vertex>& camera, int s, int t, uint64_t& rays) {
   Connection c;
   // A camera path that escaped cannot be connected to anything.
@@ -173,9 +173,9 @@ Connection connect(const Scene& scene, Sampler& sampler, const BdptSettings& set
       if (!isBlack(c.L)) c.L *= geometry(scene, qs, pt, rays);
     }
   }
-  c.weight = isBlack(c.L) ? 0.f : misWeight(scene, settings.mis, light, camera, sampled, s, t);
+  c.weight = isBlack(c.L) ? 0.f : misWeight(scene, mis, light, camera, sampled, s, t);
   if (s == 1 || t == 1) c.sampled = sampled;
   return c;
 }
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

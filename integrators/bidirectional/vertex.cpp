@@ -1,6 +1,6 @@
-#include "integrators/bdpt/vertex.h"
+#include "integrators/bidirectional/vertex.h"
 
-namespace lb::bdpt {
+namespace lb::bidir {
 
 bool Vertex::connectible() const {
   switch (type) {
@@ -155,4 +155,4 @@ Color emitted(const Scene& scene, const Vertex& v, const Vertex& to) {
   return light->L(v.ng, glm::normalize(to.p - v.p));
 }
 
-}  // namespace lb::bdpt
+}  // namespace lb::bidir

@@ -1,0 +1,31 @@
+#pragma once
+// Connecting a light and a camera subpath, and the multiple importance
+// sampling weight of the strategy (s, t) that did it (Veach 1997 ch. 10;
+// pbrt-v3 §16.3.3–16.3.4). Strategies:
+//   s = 0      the camera subpath hits an emitter (or escapes to the environment)
+//   s = 1      next-event estimation with a freshly sampled light point
+//   t = 1      the light subpath connected to the camera (splatted)
+//   otherwise  a deterministic connection of y(s-1) and z(t-1)
+#include <vector>
+#include "core/sampler.h"
+#include "integrators/bidirectional/vertex.h"
+
+namespace lb::bidir {
+
+enum class MisWeighting { Balance, Power, Uniform };
+
+struct Connection {
+  Color L{0.f};          // unweighted contribution
+  float weight = 0;      // MIS weight
+  Vec2 raster{0.f};      // t = 1: where to splat
+  Vertex sampled;        // s = 1: the light point; t = 1: the camera (for tests)
+};
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
+                   std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
+
+// MIS weight of strategy (s, t); `sampled` replaces y(s-1) when s = 1 and
+// z(t-1) when t = 1. Temporarily edits the connection vertices and restores them.
+float misWeight(const Scene& scene, MisWeighting heuristic, std::vector<Vertex>& light, std::vector<Vertex>& camera,
+                const Vertex& sampled, int s, int t);
+
+}  // namespace lb::bidir
