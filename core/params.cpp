@@ -1,8 +1,10 @@
 #include "core/params.h"
+#include <yaml-cpp/depthguard.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <iostream>
 
 namespace lb {
@@ -209,12 +211,20 @@ std::string closestMatch(const std::string& word, const std::vector<std::string>
   return best;
 }
 
-void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context) {
+namespace {
+// `visited` holds the start offsets of the collections already checked: an
+// alias (*a) is the node it names, so it is checked once, not once per use
+// ("billion laughs": ten levels of nine aliases, under 1 KB, used to take
+// hours here). Two distinct collections never start at the same offset.
+void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context,
+                   std::set<int>& visited) {
+  if (!node.IsSequence() && !node.IsMap()) return;
+  if (!visited.insert(node.Mark().pos).second) return;
   if (node.IsSequence()) {
-    for (size_t i = 0; i < node.size(); ++i) checkMappings(node[i], file, context + "[" + std::to_string(i) + "]");
+    for (size_t i = 0; i < node.size(); ++i)
+      checkMappings(node[i], file, context + "[" + std::to_string(i) + "]", visited);
     return;
   }
-  if (!node.IsMap()) return;
   std::map<std::string, int> firstLine;
   for (auto it = node.begin(); it != node.end(); ++it) {
     // A copy (a Node is a handle): yaml-cpp's iterator hands out a proxy
@@ -227,8 +237,23 @@ void checkMappings(const YAML::Node& node, const std::string& file, const std::s
     std::string name = context.empty() ? k.Scalar() : context + "." + k.Scalar();
     auto [first, fresh] = firstLine.emplace(k.Scalar(), line);
     if (!fresh) throw ConfigError(file, line, name, "given twice (first at line " + std::to_string(first->second) + ")");
-    checkMappings(it->second, file, name);
+    checkMappings(it->second, file, name, visited);
   }
+}
+}  // namespace
+
+void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context) {
+  std::set<int> visited;
+  checkMappings(node, file, context, visited);
+}
+
+ConfigError malformedYaml(const std::string& file, const YAML::ParserException& e) {
+  // yaml-cpp (0.7) refuses nesting deeper than its DepthGuard's limit with
+  // the message "bad file"; say what is wrong.
+  if (auto* deep = dynamic_cast<const YAML::DeepRecursion*>(&e))
+    return ConfigError(file, e.mark.line + 1, "",
+                       "nested more than " + std::to_string(deep->depth() - 1) + " levels deep (the YAML reader's limit)");
+  return ConfigError(file, e.mark.line + 1, "", "malformed YAML: " + e.msg);
 }
 
 YAML::Node loadYamlFile(const std::string& path) {
@@ -248,13 +273,16 @@ YAML::Node loadYamlFile(const std::string& path) {
                   double(bytes) / (1 << 20), double(kMaxYamlBytes) / (1 << 20));
     throw ConfigError(path, 0, "", msg);
   }
+  // A FIFO or a device would block or never end.
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ConfigError(path, 0, "", "not a regular file");
   std::ifstream in(path);
   if (!in) throw ConfigError(path, 0, "", "cannot open file");
   YAML::Node root;
   try {
     root = YAML::Load(in);
   } catch (const YAML::ParserException& e) {
-    throw ConfigError(path, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+    throw malformedYaml(path, e);
   }
   checkMappings(root, path, "");
   return root;

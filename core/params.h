@@ -92,5 +92,8 @@ YAML::Node loadYamlFile(const std::string& path);
 // or `? {x: 1}`) and none is given twice (yaml-cpp keeps both silently).
 // `context` prefixes the key paths in messages ("" at the top).
 void checkMappings(const YAML::Node& node, const std::string& file, const std::string& context);
+// The ConfigError for a document yaml-cpp could not parse (too deep nesting
+// said as such, not as yaml-cpp's "bad file").
+ConfigError malformedYaml(const std::string& file, const YAML::ParserException& e);
 
 }  // namespace lb

@@ -1,6 +1,7 @@
 #include "core/scene_loader.h"
 #include "core/memory.h"
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -108,8 +109,16 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
     shape = Shape::sphere(s);
   } else {
     Mat4 toWorld = readTransform(p, ctx);
-    if (glm::determinant(toWorld) == 0 || !std::isfinite(glm::determinant(toWorld)))
-      p.fail("transform", "is not invertible");
+    // Computed in double: a float determinant of 1e90 is Inf, of 1e-90 zero,
+    // and the message would say "not invertible" without saying why.
+    double det = std::abs(glm::determinant(glm::dmat4(toWorld)));
+    if (!(det >= double(std::numeric_limits<float>::min()) && det <= double(std::numeric_limits<float>::max()))) {
+      char msg[220];
+      std::snprintf(msg, sizeof msg, "scale (times world_scale) changes volumes by a factor of %g, beyond a float's "
+                    "range: the transform cannot be inverted in float (keep each axis's scale within about "
+                    "[2.3e-13, 7e12])", det);
+      p.fail("transform", msg);
+    }
     TriangleMesh mesh;
     size_t dropped = 0;
     if (type == "mesh") {
@@ -127,14 +136,15 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       mesh = type == "box" ? boxMesh() : rectangleMesh();
       dropped = transformMesh(mesh, toWorld);
     }
+    // An all-degenerate shape is an error (one line), not a warning and an error.
+    if (mesh.triangles.empty()) {
+      if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
+      p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
+    }
     if (dropped) {
       warn(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " + std::to_string(dropped) +
            " degenerate (zero-area) triangle(s)");
       ctx.degenerateTriangles += dropped;
-    }
-    if (mesh.triangles.empty()) {
-      if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
-      p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
     }
     shape = Shape::mesh(std::move(mesh));
   }
@@ -189,22 +199,9 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
   p.checkUnused();
 }
 
-// A film too large for memory would otherwise fail with std::bad_alloc, after
-// the scene is built. Per pixel (core/film.h): four dvec3 accumulators (sum,
-// sum of squares, pass sum, pass sum of squares) and a 64-bit sample count;
-// a splatting integrator's PassImage (one dvec3); and the float image written
-// at the end. Integrators' own per-pixel data come on top.
 void checkFilmMemory(Params& film, int width, int height) {
-  const double bytesPerPixel = 5 * sizeof(glm::dvec3) + sizeof(uint64_t) + sizeof(Color);
-  const double bytes = double(width) * double(height) * bytesPerPixel;
-  const double limit = 0.9 * availableMemoryBytes();
-  if (bytes <= limit) return;
-  char msg[256];
-  std::snprintf(msg, sizeof msg,
-                "a %d x %d film needs about %.3g GiB (%.0f bytes per pixel), more than 90%% of the %.1f GiB of "
-                "memory available; lower film.width/height",
-                width, height, bytes / (1 << 30), bytesPerPixel, limit / 0.9 / (1 << 30));
-  film.fail(width >= height ? "width" : "height", msg);
+  std::string problem = filmMemoryProblem(width, height);
+  if (!problem.empty()) film.fail(width >= height ? "width" : "height", problem + "; lower film.width/height");
 }
 
 void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
@@ -238,7 +235,7 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
   LoadContext ctx;
   ctx.folder = std::filesystem::path(path).parent_path().string();
   ctx.worldScale = p.getFloat("world_scale", 1.f);
-  if (!(ctx.worldScale > 0)) p.fail("world_scale", "must be positive");
+  if (std::string problem = worldScaleProblem(ctx.worldScale); !problem.empty()) p.fail("world_scale", problem);
 
   readCamera(p, scene, ctx);
   if (auto mats = p.getChild("materials")) {
@@ -276,6 +273,34 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
 
 }  // namespace
 
+// A film too large for memory would otherwise fail with std::bad_alloc, after
+// the scene is built. Per pixel (core/film.h): four dvec3 accumulators (sum,
+// sum of squares, pass sum, pass sum of squares) and a 64-bit sample count;
+// a splatting integrator's PassImage (one dvec3); and the float image written
+// at the end. Integrators' own per-pixel data come on top.
+std::string filmMemoryProblem(int width, int height) {
+  const double bytesPerPixel = 5 * sizeof(glm::dvec3) + sizeof(uint64_t) + sizeof(Color);
+  const double bytes = double(width) * double(height) * bytesPerPixel;
+  const double limit = 0.9 * availableMemoryBytes();
+  if (bytes <= limit) return "";
+  char msg[256];
+  std::snprintf(msg, sizeof msg,
+                "a %d x %d film needs about %.3g GiB (%.0f bytes per pixel), more than 90%% of the %.1f GiB of "
+                "memory available",
+                width, height, bytes / (1 << 30), bytesPerPixel, limit / 0.9 / (1 << 30));
+  return msg;
+}
+
+std::string worldScaleProblem(double s) {
+  if (!(s > 0) || !std::isfinite(s)) return "must be positive and finite";
+  double s3 = s * s * s;
+  if (s3 >= double(std::numeric_limits<float>::min()) && s3 <= double(std::numeric_limits<float>::max())) return "";
+  char msg[220];
+  std::snprintf(msg, sizeof msg, "%g is out of range: it scales volumes by its cube (%g), which must be a normal "
+                "float for transforms to be inverted (world_scale in [2.3e-13, 7e12])", s, s3);
+  return msg;
+}
+
 SceneFile loadScene(const std::string& path) { return loadFromNode(loadYamlFile(path), path); }
 
 SceneFile loadScene(const std::string& path, const YAML::Node& overrides) {
@@ -299,7 +324,7 @@ SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtua
   try {
     root = YAML::Load(yaml);
   } catch (const YAML::ParserException& e) {
-    throw ConfigError(virtualPath, e.mark.line + 1, "", "malformed YAML: " + e.msg);
+    throw malformedYaml(virtualPath, e);
   }
   checkMappings(root, virtualPath, "");
   return loadFromNode(root, virtualPath);

@@ -23,5 +23,16 @@ SceneFile loadScene(const std::string& path);
 SceneFile loadScene(const std::string& path, const YAML::Node& overrides);
 // For tests: the same from text; relative mesh paths resolve against `virtualPath`'s folder.
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath);
+// "" if a width x height film fits in the memory available, else why not
+// (with the estimate); checked for the scene's film and an experiment's
+// `resolution` before anything is allocated.
+std::string filmMemoryProblem(int width, int height);
+// "" if `s` can scale a scene, else why not. Transforms scale volumes by s³
+// and point and spot intensities by s²: s³ must stay a normal float (s in
+// about [2.3e-13, 7e12]); beyond, transforms cannot be inverted in float,
+// emitters have zero area, lights overflow to Inf or the image is silently
+// black. Checked where world_scale is given (scene key, --world-scale, an
+// experiment's world_scale), so the message names it.
+std::string worldScaleProblem(double s);
 
 }  // namespace lb

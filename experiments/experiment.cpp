@@ -1,5 +1,7 @@
 #include "experiments/experiment.h"
+#include <algorithm>
 #include <filesystem>
+#include "core/scene_loader.h"
 #include "integrators/registry.h"
 
 namespace lb {
@@ -105,9 +107,13 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   std::string folder = std::filesystem::path(path).parent_path().string();
   e.name = p.getString("name", std::filesystem::path(path).stem().string());
   // The run folder is <results>/<name>/: a path here would put it elsewhere.
+  // Control characters (a newline) make folder names no shell or CSV reader
+  // handles; 200 bytes leave room for the run id under NAME_MAX (255).
+  bool control = std::any_of(e.name.begin(), e.name.end(), [](char c) { return (unsigned char)c < 0x20 || c == 0x7f; });
   if (e.name.empty() || e.name == "." || e.name == ".." || e.name.find_first_of("/\\") != std::string::npos ||
-      e.name.find('\0') != std::string::npos)
-    p.fail("name", "must be a plain folder name (not empty, no '/', not '.' or '..'), got '" + e.name + "'");
+      control || e.name.size() > 200)
+    p.fail("name", "must be a plain folder name (not empty, at most 200 bytes, no '/' or control characters, not '.' "
+                   "or '..'), got '" + (control ? std::string("(a name with control characters)") : e.name.substr(0, 60)) + "'");
 
   for (Params& sp : p.getList("scenes")) {
     ExperimentScene s;
@@ -121,7 +127,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       if (other.name == s.name) sp.fail("name", "two scenes are named '" + s.name + "': give one a `name`");
     if (sp.has("world_scale")) {  // the run's scene scaled (camera, lights and radii too)
       float scale = sp.getFloat("world_scale", 1);
-      if (!(scale > 0)) sp.fail("world_scale", "must be positive");
+      if (std::string problem = worldScaleProblem(scale); !problem.empty()) sp.fail("world_scale", problem);
       s.overrides["world_scale"] = scale;
     }
     if (sp.has("resolution")) {
@@ -134,6 +140,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
         sp.fail("resolution", "expected two integers");
       }
       if (w <= 0 || h <= 0) sp.fail("resolution", "must be positive");
+      std::string problem = filmMemoryProblem(w, h);
+      if (!problem.empty()) sp.fail("resolution", problem);
       s.overrides["film"]["width"] = w;
       s.overrides["film"]["height"] = h;
       s.resolution["film"]["width"] = w;
@@ -209,7 +217,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     }
   }
   e.repeats = p.getInt("repeats", 1);
-  if (e.repeats < 1) p.fail("repeats", "must be at least 1");
+  if (e.repeats < 1 || e.repeats > 1000) p.fail("repeats", "must be in [1, 1000]");
   if (options.quick) e.repeats = 1;
   e.seed = uint64_t(p.getInt("seed", 1));
   e.metricSettings.relEpsilon = p.getFloat("relmse_epsilon", 1e-2f);

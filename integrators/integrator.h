@@ -27,6 +27,10 @@ class Integrator {
   // Extra images an integrator can write beside the main one (e.g. BDPT's
   // per-strategy images); returns the paths written.
   virtual std::vector<std::string> writeExtraOutputs(const std::string& /*stem*/) const { return {}; }
+  // Every file writeExtraOutputs(stem) may write, known from the settings
+  // before rendering: the render command checks them first (a directory in
+  // the way would otherwise be found after the whole render).
+  virtual std::vector<std::string> extraOutputPaths(const std::string& /*stem*/) const { return {}; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the
   // integrator estimates pixels one at a time.
   virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {

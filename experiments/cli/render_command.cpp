@@ -115,12 +115,20 @@ int render(const RenderArgs& args) {
   if (!replay) checkOutputs(output);
 
   YAML::Node sceneOverrides(YAML::NodeType::Map);
-  if (args.worldScale > 0) sceneOverrides["world_scale"] = args.worldScale;
+  if (args.worldScale > 0) {
+    if (std::string problem = worldScaleProblem(args.worldScale); !problem.empty()) throw flagError("--world-scale", problem);
+    sceneOverrides["world_scale"] = args.worldScale;
+  }
   SceneFile sf = loadScene(args.scene, sceneOverrides);
   IntegratorChoice choice = chooseIntegrator(sf, args);
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);
   auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
+  if (!replay)
+    for (const std::string& path : integrator->extraOutputPaths(stemPath(output))) {
+      std::error_code ec;
+      if (std::filesystem::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
+    }
 
   std::unique_ptr<tbb::global_control> threads;
   if (args.threads > 0)

@@ -95,6 +95,19 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   }
 }
 
+std::vector<std::string> Bdpt::extraOutputPaths(const std::string& stem) const {
+  std::vector<std::string> paths;
+  for (int len = 1; len <= settings_.strategyImages; ++len)
+    for (int t = 1; t <= len + 1; ++t) {
+      int s = len + 1 - t;
+      if (s == 1 && t == 1) continue;
+      std::string base = stem + "_s" + std::to_string(s) + "_t" + std::to_string(t);
+      for (const char* suffix : {"", "_unweighted"})
+        for (const char* ext : {".exr", ".png"}) paths.push_back(base + suffix + ext);
+    }
+  return paths;
+}
+
 std::vector<std::string> Bdpt::writeExtraOutputs(const std::string& stem) const {
   std::vector<std::string> written;
   for (size_t i = 0; i < strategies_.size(); ++i) {

@@ -35,6 +35,7 @@ class Bdpt final : public Integrator {
   explicit Bdpt(BdptSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
+  std::vector<std::string> extraOutputPaths(const std::string& stem) const override;
   // Per-strategy film (after a render with strategy_images > 0), or null.
   const Film* strategyFilm(int s, int t, bool weighted) const {
     int k = strategyIndex(s, t);

@@ -70,6 +70,9 @@ class IrradianceCacheIntegrator final : public Integrator {
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
+  std::vector<std::string> extraOutputPaths(const std::string& stem) const override {
+    return settings_.recordImage ? std::vector<std::string>{stem + "_records.png"} : std::vector<std::string>{};
+  }
   std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
 
   const IrradianceCache& cache() const { return *cache_; }

@@ -115,6 +115,14 @@ Color PhotonMapper::Li(const Ray& cameraRay, const Scene& scene, Sampler& sample
   return hit.emitted + hit.beta * gather(scene, x, segmentsLeft, sampler, rays, scratch);
 }
 
+std::vector<std::string> PhotonMapper::extraOutputPaths(const std::string& stem) const {
+  if (!settings_.densityImages) return {};
+  std::vector<std::string> paths;
+  for (const char* name : {"global", "caustic"})
+    for (const char* ext : {".exr", ".png"}) paths.push_back(stem + "_" + name + "_density" + ext);
+  return paths;
+}
+
 std::vector<std::string> PhotonMapper::writeExtraOutputs(const std::string& stem) const {
   if (!settings_.densityImages || !scene_) return {};
   // Irradiance E = π·(radiance of a white Lambertian) from each map, at the

@@ -43,6 +43,7 @@ class PhotonMapper final : public PixelIntegrator {
   explicit PhotonMapper(PhotonSettings s) : settings_(s) {}
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
+  std::vector<std::string> extraOutputPaths(const std::string& stem) const override;
   const PhotonMap& globalMap() const { return global_; }
   const PhotonMap& causticMap() const { return caustic_; }
 

@@ -1,5 +1,6 @@
 // Every bad input gets one clear message naming file, line and key, exit code
 // 2, and no output file. These run the real `lightbench` binary.
+#include <sys/stat.h>
 #include <algorithm>
 #include "core/image.h"
 #include "core/params.h"
@@ -165,9 +166,68 @@ TEST_F(BadInput, ZeroAreaEmitter) {
   expectError(render(f), "s.yaml:7", "emission", "zero area");
 }
 
-TEST_F(BadInput, TinyTransformIsNotInvertible) {
+// Scales of 1e30 and 1e-30 used to be "not invertible" without saying why.
+TEST_F(BadInput, TransformScaleBeyondAFloatSaysSo) {
   std::string f = write("s.yaml", scene("  - {type: rectangle, emission: 5, transform: {scale: [1e-30, 1e-30, 1]}}"));
-  expectError(render(f), "s.yaml:7", "transform", "not invertible");
+  expectError(render(f), "s.yaml:7", "transform", "changes volumes by a factor of 1e-60, beyond a float's range");
+  std::string g = write("t.yaml", scene("  - {type: box, transform: {scale: 1e30}}"));
+  expectError(render(g), "t.yaml:7", "transform", "changes volumes by a factor of 1e+90");
+}
+
+// world_scale 1e30 was blamed on a transform the user never wrote (or, on a
+// spheres-only scene, rendered black): its own key or flag is named.
+TEST_F(BadInput, WorldScaleOutOfRangeNamesItself) {
+  expectError(render(write("s.yaml", scene("", "world_scale: 1e30\n"))), "s.yaml:5", "'world_scale'",
+              "1e+30 is out of range: it scales volumes by its cube");
+  expectError(render(write("t.yaml", scene("  - {type: sphere, radius: 1}", "world_scale: 1e-30\n"))), "t.yaml:5",
+              "'world_scale'", "world_scale in [2.3e-13, 7e12]");
+  expectError(render(write("u.yaml", scene("")), "--world-scale 1e30"), "command line", "'--world-scale'",
+              "out of range");
+}
+
+// yaml-cpp says "bad file" when nesting passes its depth limit.
+TEST_F(BadInput, DeepNestingSaysSo) {
+  std::string deep = "camera: " + std::string(10000, '[') + std::string(10000, ']') + "\n";
+  expectError(render(write("s.yaml", deep)), "s.yaml:1", "", "levels deep (the YAML reader's limit)");
+}
+
+// Ten levels of nine aliases (under 1 KB) used to keep the key checks busy
+// for hours: each alias is checked once.
+TEST_F(BadInput, AliasBombIsCheckedOnce) {
+  std::string text = scene("", "junk: 1\n") + "l0: &l0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i <= 10; ++i) {
+    std::string prev = "*l" + std::to_string(i - 1);
+    text += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + prev;
+    for (int k = 1; k < 9; ++k) text += ", " + prev;
+    text += "]\n";
+  }
+  expectError(render(write("s.yaml", text)), "s.yaml:5", "'junk'", "unknown key");
+}
+
+// A FIFO as the scene used to block forever.
+TEST_F(BadInput, SceneThatIsNotARegularFile) {
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0644), 0);
+  expectError(render((dir_ / "fifo.yaml").string()), "fifo.yaml", "", "not a regular file");
+}
+
+// An all-degenerate mesh printed a warning and then the error: one line.
+TEST_F(BadInput, AllDegenerateMeshIsOneLine) {
+  write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+  RunResult r = render(write("s.yaml", scene("  - {type: mesh, file: flat.obj}")));
+  expectError(r, "s.yaml:7", "file", "every triangle is degenerate");
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// An extra image (here the irradiance cache's records) in the way of a
+// directory was found after the render: now before it.
+TEST_F(BadInput, ExtraOutputInTheWayIsFoundBeforeRendering) {
+  fs::create_directories(dir_ / "out" / "image_records.png");
+  RunResult r = render(write("s.yaml", scene("")), "--integrator irradiance_cache");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("'--output': cannot write " + (dir_ / "out" / "image_records.png").string() + ": it is a directory"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "image.exr"));
 }
 
 TEST_F(BadInput, NonInvertibleTransform) {

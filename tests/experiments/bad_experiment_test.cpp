@@ -9,6 +9,7 @@
 #include <ImfOutputFile.h>
 #include <gtest/gtest.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -224,6 +225,32 @@ TEST_F(BadExperiment, AnUnwritableResultsFolderIsRefusedBeforeRendering) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "ref.exr" / "results").string(), &err), 2);
   EXPECT_NE(err.find("'--results': not a folder: " + (dir_ / "ref.exr").string()), std::string::npos) << err;
+}
+
+// Found by hand (issue 12 walkthrough): each used to run, hang or fail late.
+TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "repeats: 1000000000\n");
+  expectRefused("exp.yaml:11: 'repeats': must be in [1, 1000]");  // allocated gigabytes before
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "name: " + std::string(300, 'a') + "\n");
+  expectRefused("exp.yaml:11: 'name': must be a plain folder name (not empty, at most 200 bytes");
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "name: \"a\\nb\"\n");
+  expectRefused("exp.yaml:11: 'name': must be a plain folder name");
+  std::string text = writeExperiment();
+  std::string exp = readFile(text);
+  exp.replace(exp.find("resolution: [8, 8]"), 18, "resolution: [1000000, 1000000]");
+  std::ofstream(text) << exp;
+  expectRefused("exp.yaml:3: 'scenes[0].resolution': a 1000000 x 1000000 film needs about");  // blamed the scene's film
+  exp = readFile(text);
+  exp.replace(exp.find("resolution: [1000000, 1000000]"), 30, "resolution: [8, 8]\n    world_scale: 1e30");
+  std::ofstream(text) << exp;
+  expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is out of range");
+}
+
+TEST_F(BadExperiment, AnExperimentThatIsNotARegularFileIsRefused) {
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0644), 0);
+  std::string err;
+  EXPECT_EQ(runBinary((dir_ / "fifo.yaml").string() + " --results " + (dir_ / "results").string(), &err), 2) << err;
+  EXPECT_NE(err.find("fifo.yaml: not a regular file"), std::string::npos) << err;
 }
 
 TEST_F(BadExperiment, NamesThatWouldEscapeTheResultsFolderAreRefused) {

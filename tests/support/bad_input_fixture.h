@@ -37,7 +37,7 @@ class BadInput : public ::testing::Test {
   }
   RunResult render(const std::string& scene, const std::string& extra = "", const std::string& budget = "--spp 1") {
     std::string errFile = (dir_ / "stderr.txt").string();
-    std::string cmd = std::string(LIGHTBENCH_BINARY) + " render " + scene + " " + budget + " -q -o " +
+    std::string cmd = "timeout 120 " + std::string(LIGHTBENCH_BINARY) + " render " + scene + " " + budget + " -q -o " +
                       (dir_ / "out" / "image.exr").string() + " " + extra + " 2>" + errFile;
     fs::create_directories(dir_ / "out");
     int status = std::system(cmd.c_str());
