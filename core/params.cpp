@@ -71,6 +71,15 @@ float Params::toFloat(const YAML::Node& n, const std::string& key) const {
     if (!n.IsScalar()) fail(key, "expected a number, got " + shapeOf(n));
     v = n.as<float>();
   } catch (const YAML::Exception&) {
+    // yaml-cpp refuses a number beyond a float (1e39) as not a number: say which.
+    double d = 0;
+    bool number = false;
+    try {
+      d = n.as<double>();
+      number = true;
+    } catch (const YAML::Exception&) {
+    }
+    if (number && std::isfinite(d)) fail(key, "'" + n.Scalar() + "' is beyond a float's range (about ±3.4e38)");
     fail(key, "expected a number, got '" + n.Scalar() + "'");
   }
   if (!std::isfinite(v)) fail(key, "must be a finite number, got '" + n.Scalar() + "'");

@@ -124,6 +124,12 @@ TEST_F(BadInput, NonFiniteNumber) {
   expectError(render(f), "s.yaml:7", "emission", "finite");
 }
 
+// yaml-cpp reads 1e39 as "not a number" for a float: the message says what is wrong.
+TEST_F(BadInput, NumberBeyondAFloat) {
+  std::string f = write("s.yaml", scene("  - {type: sphere, radius: 1e39}"));
+  expectError(render(f), "s.yaml:7", "radius", "'1e39' is beyond a float's range");
+}
+
 TEST_F(BadInput, InfiniteNumber) {
   std::string f = write("s.yaml", scene("  - {type: sphere, radius: .inf, emission: 1}"));
   expectError(render(f), "s.yaml:7", "radius", "finite");
