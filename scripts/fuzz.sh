@@ -3,10 +3,13 @@
 # each for SECONDS (default 60), one after another.
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. bash scripts/fuzz.sh 1800
 # Environment: BUILD_DIR (default build-fuzz), JOBS (build jobs, default 1),
-# LIGHTBENCH_FUZZ_STRICT=1 (scene/experiment: a non-ConfigError exception is a
-# finding). Findings go to BUILD_DIR/fuzz-artifacts/TARGET/; the grown corpus
-# stays in BUILD_DIR/fuzz-corpus/TARGET/ for the next run. Exits 1 if any
-# target has findings.
+# FUZZ_SEED (libFuzzer's -seed; default: from the clock; CI fixes it),
+# LIGHTBENCH_FUZZ_STRICT (default 1: for scene/experiment, an exception that is
+# not a ConfigError, i.e. a message without file:line:key, is a finding; 0
+# counts only crashes, hangs, leaks and sanitizer reports). Findings go to
+# BUILD_DIR/fuzz-artifacts/TARGET/; the grown corpus stays in
+# BUILD_DIR/fuzz-corpus/TARGET/ for the next run. Exits 1 if any target has
+# findings.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -20,6 +23,9 @@ JOBS=${JOBS:-1}
 # dedup tokens let fork mode tell repeated crashes apart.
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-dedup_token_length=3}
+export LIGHTBENCH_FUZZ_STRICT=${LIGHTBENCH_FUZZ_STRICT:-1}
+SEED_FLAG=()
+[[ -n "${FUZZ_SEED:-}" ]] && SEED_FLAG=(-seed="$FUZZ_SEED")
 
 # Inputs larger than this are truncated: enough for any seed scene or
 # experiment, small enough that a fuzzer cannot spell out a huge mesh.
@@ -108,7 +114,7 @@ for t in "${TARGETS[@]}"; do
   # -fork=1 with -ignore_*: one worker (the cores are shared) that carries on
   # after a finding, so one run collects several. -close_fd_mask=3 hides the
   # loaders' warnings; sanitizer reports still reach the log.
-  "$BIN/$t" "$corpus" "$BUILD/fuzz-seeds/$t" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
+  "$BIN/$t" "$corpus" "$BUILD/fuzz-seeds/$t" "${SEED_FLAG[@]}" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
     -max_total_time="$SECONDS_PER_TARGET" -max_len="${MAX_LEN[$t]}" -rss_limit_mb=2048 -timeout=10 \
     -close_fd_mask=3 -artifact_prefix="$artifacts/" >"$log" 2>&1 || true
   # Fork mode's status lines: "#RUNS: cov: .. corp: N exec/s: E oom/timeout/crash: ..".
