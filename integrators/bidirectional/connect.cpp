@@ -57,18 +57,34 @@ float heuristicTerm(MisWeighting h, float r) {
 
 }  // namespace
 
-// MIS weight of strategy (s, t): 1 / Σ_i (p_i / p_s)^β over every strategy i
-// that can generate the same path (Veach 1997 Eq. 10.9 and §10.3.5), with the
-// ratios p_i / p_s built outward from the connection by multiplying
-// pdfRev / pdfFwd one vertex at a time (pbrt §16.3.4). Densities follow
-// vertex.h: area measure, deltas factored out (so specular chains cancel),
-// roulette excluded. Only the light endpoint needs a correction: strategy
-// s = 1 samples it by next-event estimation, every other strategy by emission
-// (or, s = 0, not at all), so p_1 carries neeOverEmit = p_NEE / p_emit
-// relative to the emission density the recursion uses.
-float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, std::vector<Vertex>& camera,
-                const Vertex& sampled, int s, int t) {
-  if (s + t == 2) return 1;
+// MIS weights over every technique that can generate the path (Veach 1997
+// Eq. 10.9 and §10.3.5), with the density ratios p_i / p_base built outward
+// from the connection (s, t) by multiplying pdfRev / pdfFwd one vertex at a
+// time (pbrt-v3 §16.3.4). "base" is the connection (s, t) with its light
+// endpoint sampled by emission. Densities follow vertex.h: area measure,
+// deltas factored out (so specular chains cancel), roulette excluded. The
+// light endpoint needs one correction: strategy s = 1 samples it by
+// next-event estimation, every other technique by emission (or, s = 0, not at
+// all), so s = 1 carries neeOverEmit = p_NEE / p_emit.
+//
+// Merging (Georgiev, Křivánek, Davidovič, Slusallek 2012, §4): merging a
+// light subpath that reached vertex x with a camera subpath that reached x has
+// the density of the connection just before x (x sampled from the camera side)
+// times the light subpath's density of x, times η = N π r² (N light subpaths
+// per iteration, the acceptance disc π r²). Walking the ratios, a merge at a
+// vertex whose connection ratio is r (the connection that samples it from the
+// light) is therefore r · pdfFwd(x) · η on the camera side and, on the light
+// side, r' · pdfFwd(x) · η with r' the ratio of the connection that samples x
+// from the camera. This is the same quantity as Georgiev's technical report
+// ("Implementing VCM", 2012) accumulates in dVCM/dVC/dVM, walked over the
+// stored vertices instead of carried along the subpaths. A merge needs a
+// non-delta surface vertex that is neither the light's nor the camera's own.
+TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
+                                  std::vector<Vertex>& light, std::vector<Vertex>& camera, const Vertex& sampled, int s,
+                                  int t) {
+  // One segment (the camera sees a light): no other technique (BDPT skips
+  // s = t = 1, and nothing lies between the two to merge).
+  if (s + t == 2) return {1.f, 0.f};
   Vertex* qs = s > 0 ? &light[size_t(s - 1)] : nullptr;
   Vertex* pt = t > 0 ? &camera[size_t(t - 1)] : nullptr;
   Vertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
@@ -76,7 +92,7 @@ float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, 
 
   // The freshly sampled endpoint replaces the subpath's own for s = 1 / t = 1.
   Restore<Vertex> a1;
-  if (s == 1) a1 = Restore<Vertex>(qs, sampled);
+  if (s == 1 && allowed.ownSampledEndpoint) a1 = Restore<Vertex>(qs, sampled);
   else if (t == 1) a1 = Restore<Vertex>(pt, sampled);
   // The connection vertices are connectible, so not delta for this path.
   Restore<bool> a2, a3;
@@ -94,38 +110,64 @@ float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, 
   const Vertex& y1 = s > 1 ? light[1] : (s == 1 ? *pt : *ptMinus);
   float pEmit = pdfLightOrigin(scene, y0, y1);
   float neeOverEmit = pEmit > 0 ? pdfLightNee(scene, y0, y1) / pEmit : 0.f;
-  // term(r, s'): the heuristic's term for strategy s' whose ratio to p_s,
-  // with emission densities at y0 throughout, is r.
-  auto term = [&](float r, int sOther) {
-    if (sOther == 1) r *= neeOverEmit;
-    if (s == 1) r = neeOverEmit > 0 ? r / neeOverEmit : 0.f;
-    return heuristicTerm(h, r);
+  // A connection s' ≥ 1 competes only where connections are allowed; s' = 0
+  // (a camera subpath that hits the light) always does.
+  auto connection = [&](float r, int sOther) {
+    if (sOther >= 1 && !allowed.connections) return 0.f;
+    return heuristicTerm(h, sOther == 1 ? r * neeOverEmit : r);
   };
-  // A strategy whose own density is zero never produces this path: weight 0.
-  // Beyond a zero reverse density every further strategy is impossible: r = 0.
-  if (s == 1 && neeOverEmit == 0) return 0;
-  bool ownZero = false;
+  auto merge = [&](float r, const Vertex& v) {
+    return allowed.mergeEta > 0 ? heuristicTerm(h, r * v.pdfFwd * allowed.mergeEta) : 0.f;
+  };
+  auto mergeable = [](const Vertex& v) { return v.type == VertexType::Surface && !v.delta && v.connectible(); };
+  // Beyond a zero forward density the base itself is impossible: weights 0.
+  bool baseZero = false;
   auto ratio = [&](float rev, float fwd) {
-    ownZero |= !(fwd > 0);
+    baseZero |= !(fwd > 0);
     return fwd > 0 ? rev / fwd : 0.f;
   };
 
+  TechniqueWeights w;
+  float own = connection(1, s);
   float sum = 0, r = 1;
   // Camera side: moving the connection one vertex towards the camera gives
-  // strategy s' = s + t - i, which connects camera[i - 1] and camera[i].
+  // strategy s' = s + t - i, which connects camera[i - 1] and camera[i];
+  // camera[i] is then reached from both sides, and can be merged.
   for (int i = t - 1; i > 0; --i) {
-    r *= ratio(camera[size_t(i)].pdfRev, camera[size_t(i)].pdfFwd);
-    if (!camera[size_t(i)].delta && !camera[size_t(i - 1)].delta) sum += term(r, s + t - i);
+    const Vertex& v = camera[size_t(i)];
+    r *= ratio(v.pdfRev, v.pdfFwd);
+    if (!v.delta && !camera[size_t(i - 1)].delta) sum += connection(r, s + t - i);
+    bool isLightOrigin = s == 0 && i == t - 1;
+    if (mergeable(v) && !isLightOrigin) {
+      float m = merge(r, v);
+      sum += m;
+      if (i == t - 1) w.mergeAtCamera = m;
+    }
   }
   // Light side: strategy s' = i connects light[i - 1] and light[i]; s' = 0
-  // needs a light that rays can hit.
+  // needs a light that rays can hit. light[i] (i ≥ 1) can be merged.
   r = 1;
   for (int i = s - 1; i >= 0; --i) {
-    r *= ratio(light[size_t(i)].pdfRev, light[size_t(i)].pdfFwd);
+    const Vertex& v = light[size_t(i)];
+    r *= ratio(v.pdfRev, v.pdfFwd);
     bool deltaBefore = i > 0 ? light[size_t(i - 1)].delta : light[0].isDeltaLight();
-    if (!light[size_t(i)].delta && !deltaBefore) sum += term(r, i);
+    if (!v.delta && !deltaBefore) sum += connection(r, i);
+    if (i > 0 && mergeable(v)) sum += merge(r, v);
   }
-  return ownZero ? 0.f : 1 / (1 + sum);
+  if (baseZero) return {};
+  // With the NEE endpoint own (BDPT's s = 1), the base is emission-sampled
+  // but the technique is not: own = h(neeOverEmit), so a zero NEE density
+  // gives weight 0.
+  float total = own + sum;
+  if (!(total > 0)) return {};
+  w.connection = own / total;
+  w.mergeAtCamera /= total;
+  return w;
+}
+
+float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, std::vector<Vertex>& camera,
+                const Vertex& sampled, int s, int t) {
+  return techniqueWeights(scene, h, Techniques{}, light, camera, sampled, s, t).connection;
 }
 
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,

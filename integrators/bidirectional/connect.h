@@ -23,8 +23,28 @@ struct Connection {
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
                    std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
 
-// MIS weight of strategy (s, t); `sampled` replaces y(s-1) when s = 1 and
-// z(t-1) when t = 1. Temporarily edits the connection vertices and restores them.
+// The techniques that compete for a path in the MIS weights. BDPT: every
+// connection. Vertex connection and merging (Georgiev et al. 2012): merging
+// at each interior non-delta vertex too, and/or no connections.
+struct Techniques {
+  bool connections = true;  // every (s, t) with s >= 1 (s = 0, a camera subpath hitting a light, always competes)
+  float mergeEta = 0;       // > 0: merging competes, η = (light subpaths per iteration) · π r²
+  // s = 1 / t = 1: `sampled` (NEE's light point, the camera) replaces the
+  // subpath's endpoint. False when (s, t) only describes a merge's path,
+  // whose light endpoint is the light subpath's own.
+  bool ownSampledEndpoint = true;
+};
+struct TechniqueWeights {
+  float connection = 0;     // weight of the connection (s, t) itself
+  float mergeAtCamera = 0;  // weight of merging light[0..s-1], extended to camera[t-1], at camera[t-1]
+};
+// MIS weights of strategy (s, t) and of the merge at camera[t-1]; `sampled`
+// replaces y(s-1) when s = 1 and z(t-1) when t = 1. Temporarily edits the
+// connection vertices and restores them.
+TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
+                                  std::vector<Vertex>& light, std::vector<Vertex>& camera, const Vertex& sampled, int s,
+                                  int t);
+// BDPT's weight: techniqueWeights(..., Techniques{}, ...).connection.
 float misWeight(const Scene& scene, MisWeighting heuristic, std::vector<Vertex>& light, std::vector<Vertex>& camera,
                 const Vertex& sampled, int s, int t);
 
