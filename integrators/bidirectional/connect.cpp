@@ -81,7 +81,7 @@ float heuristicTerm(MisWeighting h, float r) {
 // non-delta surface vertex that is neither the light's nor the camera's own.
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
                                   std::vector<Vertex>& light, std::vector<Vertex>& camera, const Vertex& sampled, int s,
-                                  int t) {
+                                  int t, const Vertex* merged) {
   // One segment (the camera sees a light): no other technique (BDPT skips
   // s = t = 1, and nothing lies between the two to merge).
   if (s + t == 2) return {1.f, 0.f};
@@ -90,20 +90,26 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   Vertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
   Vertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;
 
-  // The freshly sampled endpoint replaces the subpath's own for s = 1 / t = 1.
+  // The freshly sampled endpoint replaces the subpath's own for s = 1 / t = 1
+  // (a merge's light subpath keeps its own, emission-sampled, endpoint).
   Restore<Vertex> a1;
-  if (s == 1 && allowed.ownSampledEndpoint) a1 = Restore<Vertex>(qs, sampled);
+  if (s == 1 && !merged) a1 = Restore<Vertex>(qs, sampled);
   else if (t == 1) a1 = Restore<Vertex>(pt, sampled);
-  // The connection vertices are connectible, so not delta for this path.
+  // The connection vertices are connectible, so not delta for this path; a
+  // merge's light[s-1] keeps its own flag (a caustic's glass).
   Restore<bool> a2, a3;
   if (pt) a2 = Restore<bool>(&pt->delta, false);
-  if (qs) a3 = Restore<bool>(&qs->delta, false);
+  if (qs && !merged) a3 = Restore<bool>(&qs->delta, false);
   // Reverse densities at and next to the connection, seen from the other side.
   Restore<float> a4, a5, a6, a7;
-  if (pt) a4 = Restore<float>(&pt->pdfRev, s > 0 ? vertexPdf(scene, *qs, qsMinus, *pt) : pdfLightOrigin(scene, *pt, *ptMinus));
+  if (pt) {
+    float fromLight = merged ? merged->pdfFwd
+                             : s > 0 ? vertexPdf(scene, *qs, qsMinus, *pt) : pdfLightOrigin(scene, *pt, *ptMinus);
+    a4 = Restore<float>(&pt->pdfRev, fromLight);
+  }
   if (ptMinus) a5 = Restore<float>(&ptMinus->pdfRev, s > 0 ? vertexPdf(scene, *pt, qs, *ptMinus) : pdfLight(scene, *pt, *ptMinus));
   if (qs) a6 = Restore<float>(&qs->pdfRev, vertexPdf(scene, *pt, ptMinus, *qs));
-  if (qsMinus) a7 = Restore<float>(&qsMinus->pdfRev, vertexPdf(scene, *qs, pt, *qsMinus));
+  if (qsMinus && !merged) a7 = Restore<float>(&qsMinus->pdfRev, vertexPdf(scene, *qs, pt, *qsMinus));
 
   // The light endpoint y0 and its neighbour on the full path.
   const Vertex& y0 = s > 0 ? light[0] : *pt;
@@ -128,7 +134,8 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   };
 
   TechniqueWeights w;
-  float own = connection(1, s);
+  // A merge's path need not be connectible at (s, t): light[s-1] may be delta.
+  float own = merged && s > 0 && !qs->connectible() ? 0.f : connection(1, s);
   float sum = 0, r = 1;
   // Camera side: moving the connection one vertex towards the camera gives
   // strategy s' = s + t - i, which connects camera[i - 1] and camera[i];

@@ -29,10 +29,6 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::
 struct Techniques {
   bool connections = true;  // every (s, t) with s >= 1 (s = 0, a camera subpath hitting a light, always competes)
   float mergeEta = 0;       // > 0: merging competes, η = (light subpaths per iteration) · π r²
-  // s = 1 / t = 1: `sampled` (NEE's light point, the camera) replaces the
-  // subpath's endpoint. False when (s, t) only describes a merge's path,
-  // whose light endpoint is the light subpath's own.
-  bool ownSampledEndpoint = true;
 };
 struct TechniqueWeights {
   float connection = 0;     // weight of the connection (s, t) itself
@@ -41,9 +37,16 @@ struct TechniqueWeights {
 // MIS weights of strategy (s, t) and of the merge at camera[t-1]; `sampled`
 // replaces y(s-1) when s = 1 and z(t-1) when t = 1. Temporarily edits the
 // connection vertices and restores them.
+//
+// For a merge, `merged` is the light vertex found near camera[t-1], and
+// light[0..s-1] its light subpath before it (so light[s-1] may be specular):
+// the light subpath's density of camera[t-1] is taken as merged->pdfFwd and
+// light[s-2]'s reverse density as cached, since light[s-1] may be a delta
+// vertex whose densities cannot be evaluated towards another point
+// (Georgiev's report stores the same quantities at the light vertex).
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
                                   std::vector<Vertex>& light, std::vector<Vertex>& camera, const Vertex& sampled, int s,
-                                  int t);
+                                  int t, const Vertex* merged = nullptr);
 // BDPT's weight: techniqueWeights(..., Techniques{}, ...).connection.
 float misWeight(const Scene& scene, MisWeighting heuristic, std::vector<Vertex>& light, std::vector<Vertex>& camera,
                 const Vertex& sampled, int s, int t);

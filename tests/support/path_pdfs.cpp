@@ -137,6 +137,25 @@ std::vector<double> strategyPdfsFromDefinition(const Scene& scene, const std::ve
   return pdfs;
 }
 
+std::vector<double> mergePdfsFromDefinition(const Scene& scene, const std::vector<Vertex>& path, double eta) {
+  int n = int(path.size());
+  std::vector<double> pdfs(size_t(n), 0.0);
+  auto y = [&](int i) -> const Vertex& { return path[size_t(n - 1 - i)]; };
+  for (int k = 1; k <= n - 2; ++k) {
+    const Vertex& x = path[size_t(k)];
+    if (x.type != VertexType::Surface || specular(x)) continue;
+    double p = eta;
+    for (int j = 1; j <= k; ++j)  // camera subpath z0…zk
+      p *= directional(scene, j >= 2 ? &path[size_t(j - 2)] : nullptr, path[size_t(j - 1)], path[size_t(j)]) *
+           toArea(path[size_t(j - 1)], path[size_t(j)]);
+    int s = n - k;  // light subpath y0…y(s-1) = path[n-1] … path[k], emission-sampled
+    p *= emissionOrigin(scene, y(0), y(1)) * emissionNext(scene, y(0), y(1));
+    for (int i = 2; i < s; ++i) p *= directional(scene, &y(i - 2), y(i - 1), y(i)) * toArea(y(i - 1), y(i));
+    pdfs[size_t(k)] = p;
+  }
+  return pdfs;
+}
+
 std::vector<double> weightsFromPdfs(const std::vector<double>& pdfs, MisWeighting h) {
   auto term = [h](double p) { return h == MisWeighting::Power ? p * p : h == MisWeighting::Balance ? p : (p > 0 ? 1.0 : 0.0); };
   double sum = 0;

@@ -32,6 +32,15 @@ namespace lb::test {
 // 0 where strategy s cannot generate the path.
 std::vector<double> strategyPdfsFromDefinition(const Scene& scene, const std::vector<bidir::Vertex>& path);
 
+// Vertex merging (Georgiev, Křivánek, Davidovič, Slusallek 2012, §4): the
+// camera subpath path[0…k] and the light subpath y0…path[k], both sampled,
+// joined at path[k] with acceptance π r²:
+//   m_k = Π_{j=1}^{k} p(z_j | …) · p_emit(y0) · Π_{i=1}^{n-1-k} p(y_i | …) · η,
+// η = N π r² (N light subpaths per iteration). Needs a non-specular surface
+// at path[k] that is neither end (1 ≤ k ≤ n-2). Returns m_k for k = 0…n-1,
+// 0 where merging at k cannot generate the path.
+std::vector<double> mergePdfsFromDefinition(const Scene& scene, const std::vector<bidir::Vertex>& path, double eta);
+
 // The heuristic applied to those densities: w_s = p_s^β / Σ_i p_i^β (β = 1
 // balance, 2 power); uniform: 1 / (number of strategies with p_i > 0).
 std::vector<double> weightsFromPdfs(const std::vector<double>& pdfs, bidir::MisWeighting h);
