@@ -5,6 +5,7 @@
 #include "integrators/path/path_tracer.h"
 #include "integrators/photon/photon_integrator.h"
 #include "integrators/sppm/sppm.h"
+#include "integrators/vcm/vcm.h"
 
 namespace lb {
 
@@ -22,6 +23,8 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }},
       {"irradiance_cache", "irradiance caching with gradients (Ward 1988/1992): path or photon-map base estimator",
        [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }},
+      {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
+       [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); }},
   };
   return table;
 }

@@ -179,6 +179,11 @@ float misWeight(const Scene& scene, MisWeighting h, std::vector<Vertex>& light, 
 
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
                    std::vector<Vertex>& camera, int s, int t, uint64_t& rays) {
+  return connect(scene, sampler, mis, Techniques{}, light, camera, s, t, rays);
+}
+
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
+                   std::vector<Vertex>& light, std::vector<Vertex>& camera, int s, int t, uint64_t& rays) {
   Connection c;
   // A camera path that escaped cannot be connected to anything.
   if (t > 1 && s != 0 && camera[size_t(t - 1)].type == VertexType::Light) return c;
@@ -222,7 +227,7 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::
       if (!isBlack(c.L)) c.L *= geometry(scene, qs, pt, rays);
     }
   }
-  c.weight = isBlack(c.L) ? 0.f : misWeight(scene, mis, light, camera, sampled, s, t);
+  c.weight = isBlack(c.L) ? 0.f : techniqueWeights(scene, mis, techniques, light, camera, sampled, s, t).connection;
   if (s == 1 || t == 1) c.sampled = sampled;
   return c;
 }

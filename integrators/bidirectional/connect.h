@@ -14,15 +14,6 @@ namespace lb::bidir {
 
 enum class MisWeighting { Balance, Power, Uniform };
 
-struct Connection {
-  Color L{0.f};          // unweighted contribution
-  float weight = 0;      // MIS weight
-  Vec2 raster{0.f};      // t = 1: where to splat
-  Vertex sampled;        // s = 1: the light point; t = 1: the camera (for tests)
-};
-Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
-                   std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
-
 // The techniques that compete for a path in the MIS weights. BDPT: every
 // connection. Vertex connection and merging (Georgiev et al. 2012): merging
 // at each interior non-delta vertex too, and/or no connections.
@@ -34,6 +25,19 @@ struct TechniqueWeights {
   float connection = 0;     // weight of the connection (s, t) itself
   float mergeAtCamera = 0;  // weight of merging light[0..s-1], extended to camera[t-1], at camera[t-1]
 };
+struct Connection {
+  Color L{0.f};          // unweighted contribution
+  float weight = 0;      // MIS weight
+  Vec2 raster{0.f};      // t = 1: where to splat
+  Vertex sampled;        // s = 1: the light point; t = 1: the camera (for tests)
+};
+// The connection (s, t) and its MIS weight among `techniques` (default:
+// BDPT's, every connection and no merging).
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, std::vector<Vertex>& light,
+                   std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
+                   std::vector<Vertex>& light, std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
+
 // MIS weights of strategy (s, t) and of the merge at camera[t-1]; `sampled`
 // replaces y(s-1) when s = 1 and z(t-1) when t = 1. Temporarily edits the
 // connection vertices and restores them.

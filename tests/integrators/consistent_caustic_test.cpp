@@ -125,7 +125,16 @@ const ConsistentMethod FixedRadiusPhotonMethod{"photon",
                                                },
                                                64, Stratified};
 
+// Bidirectional photon mapping (vcm's bpm mode: merging at every camera
+// vertex, no connections) with a fixed radius R0 p (alpha 1), with
+// stratified camera samples as above.
+const ConsistentMethod BpmMethod{"vcm",
+                                 [](double p, const Scale& s) {
+                                   return "{mode: bpm, alpha: 1, radius: " + std::to_string(s.radius * p) + "}";
+                                 },
+                                 64, Stratified};
 
+const ConsistentCase BpmGlass{GlassSphere, BpmMethod, 8};
 const ConsistentCase SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSphere, StratifiedPhotonMethod, 16},
     FixedPhotonGlass{GlassSphere, FixedRadiusPhotonMethod, 8}, SppmRing{MetalRing, SppmMethod, 8},
     PhotonRing{MetalRing, PhotonMethod, 24}, SppmEnclosed{EnclosedLight, SppmMethod, 3},
@@ -133,6 +142,10 @@ const ConsistentCase SppmGlass{GlassSphere, SppmMethod, 6}, PhotonGlass{GlassSph
 
 // c from the sweeps (top of the file), rounded up. The levels are the pair
 // whose bias is resolved above the noise in every run seen.
+// Sweep (8 seeds, stratified 8 × 8 × 64 spp, BDPT 24 seeds): −23.9, −4.09,
+// +0.46, −0.93 % at p = 2, 1, 0.5, 0.25 (noise sd 0.44–1.29 %): the blur of
+// a fixed disc darkens the caustic's core and vanishes as r shrinks.
+TEST(ConsistentCaustic, BpmOnTheGlassSphere) { expectConsistent(BpmGlass, {1, 0.5}, 0.045, Alpha); }
 TEST(ConsistentCaustic, SppmOnTheGlassSphere) { expectConsistent(SppmGlass, {2, 1}, 0.14, Alpha); }
 TEST(ConsistentCaustic, SppmOnTheMetalRing) { expectConsistent(SppmRing, {2, 1}, 0.035, Alpha); }
 TEST(ConsistentCaustic, PhotonOnTheGlassSphere) { expectConsistent(PhotonGlass, {2, 0.5}, 0.045, Alpha); }
@@ -141,6 +154,7 @@ TEST(ConsistentCaustic, SppmOnTheEnclosedLight) { expectConsistent(SppmEnclosed,
 // Its bias is not resolved above the noise at any p swept: the allowance only.
 TEST(ConsistentCaustic, PhotonOnTheEnclosedLight) { expectConsistent(PhotonEnclosed, {1}, 0.02, Alpha); }
 
+TEST(ConsistentCaustic, DISABLED_BpmGlassSphereBiasSweep) { printSweep(BpmGlass); }
 TEST(ConsistentCaustic, DISABLED_SppmGlassSphereBiasSweep) { printSweep(SppmGlass); }
 TEST(ConsistentCaustic, DISABLED_PhotonGlassSphereBiasSweep) { printSweep(PhotonGlass); }
 TEST(ConsistentCaustic, DISABLED_FixedRadiusPhotonGlassSphereBiasSweep) { printSweep(FixedPhotonGlass); }

@@ -1,0 +1,170 @@
+#include "integrators/vcm/vcm.h"
+#include <cmath>
+#include "core/bsdfs/bsdf.h"
+#include "integrators/bidirectional/subpaths.h"
+#include "integrators/photon_map/photon_map.h"
+#include "integrators/pixel_tiles.h"
+
+namespace lb {
+
+using bidir::Vertex;
+using bidir::VertexType;
+
+VcmSettings VcmSettings::read(Params& p) {
+  VcmSettings s;
+  std::string mode = p.getChoice("mode", "vcm", {"vcm", "bpm", "ppm", "bpt"});
+  s.mode = mode == "vcm" ? VcmMode::Vcm : mode == "bpm" ? VcmMode::Bpm : mode == "ppm" ? VcmMode::Ppm : VcmMode::Bpt;
+  s.length = PathLength::read(p);
+  std::string mis = p.getChoice("mis", "power", {"power", "balance"});
+  s.mis = mis == "power" ? bidir::MisWeighting::Power : bidir::MisWeighting::Balance;
+  s.radius = p.getFloat("radius", 0);
+  if (s.radius < 0) p.fail("radius", "must not be negative (0: relative_radius × the scene's bounding radius)");
+  s.relativeRadius = p.getFloat("relative_radius", s.relativeRadius);
+  if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
+  s.alpha = p.getFloat("alpha", s.alpha);
+  if (!(s.alpha > 0 && s.alpha <= 1)) p.fail("alpha", "must be in (0, 1]");
+  p.checkUnused();
+  return s;
+}
+
+float Vcm::radius(const Scene& scene, uint64_t pass) const {
+  float r1 = settings_.radius > 0 ? settings_.radius : settings_.relativeRadius * scene.bounds().radius();
+  return r1 * float(std::pow(double(pass + 1), (double(settings_.alpha) - 1) / 2));
+}
+
+namespace {
+
+// A vertex photons can be merged at: a non-specular surface, not a light's own point.
+bool mergeable(const Vertex& v) { return v.type == VertexType::Surface && v.connectible(); }
+
+// A light vertex in the merging index: its light subpath (pixel) and place on it.
+struct LightVertexRef {
+  uint32_t path;
+  uint32_t index;
+};
+
+}  // namespace
+
+void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
+  const int W = film.width(), H = film.height();
+  const size_t N = size_t(W) * size_t(H);  // light subpaths per iteration
+  const float r = radius(scene, pass);
+  const double mergeNorm = 1 / (double(N) * Pi * double(r) * r);
+  bidir::Techniques techniques{settings_.connections(), settings_.merging() ? float(double(N) * Pi * r * r) : 0.f};
+  const int maxSeg = settings_.length.maxSegments();
+  // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays (as in bdpt).
+  const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
+  const size_t lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
+
+  // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
+  //    camera subpath; with connections, each vertex is joined to the camera.
+  lightPaths_.resize(N);
+  std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
+  forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
+    thread_local std::vector<Vertex> light, cameraEnd(1);
+    light.resize(lightCapacity);
+    size_t pixel = size_t(y) * W + x;
+    sampler.start(N + pixel, pass);
+    int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
+    if (settings_.connections())
+      for (int s = 2; s <= n && s <= maxSeg; ++s) {  // t = 1: s segments
+        bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, cameraEnd, s, 1, rays);
+        Color v = c.L * c.weight;
+        if (isBlack(v)) continue;
+        if (!isFinite(v)) {
+          film.recordNonFinite(x, y, pass);
+          continue;
+        }
+        splats[size_t(tile)].push_back({c.raster, v});
+      }
+    lightPaths_[pixel].assign(light.begin(), light.begin() + n);
+  });
+
+  // 2. The merging index over every light vertex photons can be merged at.
+  std::vector<Vec3> points;
+  std::vector<LightVertexRef> refs;
+  if (settings_.merging())
+    for (size_t p = 0; p < N; ++p)
+      for (size_t j = 1; j < lightPaths_[p].size(); ++j)
+        if (mergeable(lightPaths_[p][j])) points.push_back(lightPaths_[p][j].p), refs.push_back({uint32_t(p), uint32_t(j)});
+  PointIndex index(points);
+
+  // 3. Camera subpaths: connections to the pixel's own light subpath, merges
+  //    with every light vertex within r.
+  PassImage image(W, H);
+  forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
+    thread_local std::vector<Vertex> camera, light, prefix;
+    thread_local std::vector<std::pair<size_t, float>> found;
+    camera.resize(cameraCapacity);
+    size_t pixel = size_t(y) * W + x;
+    sampler.start(pixel, pass);
+    Vec2 raster = Vec2(x, y) + sampler.get2D();
+    int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
+    // A copy: the weights edit vertices for a moment, and other pixels read
+    // this light subpath for their merges at the same time.
+    const std::vector<Vertex>& own = lightPaths_[pixel];
+    int nl = int(own.size());
+    light.assign(own.begin(), own.end());
+    light.resize(std::max<size_t>(1, own.size()));  // s = 1 needs a slot even without a light subpath
+    Color L(0.f);
+    auto add = [&](const Color& v) {
+      if (isFinite(v)) L += v;
+      else film.recordNonFinite(x, y, pass);
+    };
+    // Merging camera[t-1] with every light vertex within r; weight 1 in ppm
+    // mode (the only technique there).
+    auto mergeAt = [&](int t, bool weighted) {
+      const Vertex& pt = camera[size_t(t - 1)];
+      index.radius(pt.p, r, found);
+      for (const auto& [k, d2] : found) {
+        const LightVertexRef& ref = refs[k];
+        int s = int(ref.index);  // light vertices before the merged one
+        if (s + t - 1 > maxSeg) continue;
+        const std::vector<Vertex>& path = lightPaths_[ref.path];
+        const Vertex& q = path[ref.index];
+        // The photon's incoming direction: towards the light subpath's previous vertex.
+        Vec3 wl = q.si.wo;
+        float cosG = absDot(wl, pt.ng);
+        if (cosG == 0) continue;
+        Color f = BSDF(pt.si).eval(pt.si.wo, wl, TransportMode::Radiance).f;
+        if (isBlack(f)) continue;
+        // Shading normals: flux arrives per geometric area (photon_map.h).
+        Color v = pt.beta * f * q.beta * float(mergeNorm * absDot(wl, pt.si.shading.n) / cosG);
+        if (weighted) {
+          prefix.assign(path.begin(), path.begin() + s);
+          v *= bidir::techniqueWeights(scene, settings_.mis, techniques, prefix, camera, Vertex{}, s, t, &q).mergeAtCamera;
+        }
+        add(v);
+      }
+    };
+    if (settings_.mode == VcmMode::Ppm) {
+      // Through specular vertices to the first non-specular one: lights seen
+      // on the way count directly, the rest is merged there.
+      for (int t = 2; t <= nc; ++t) {
+        const Vertex& v = camera[size_t(t - 1)];
+        if (v.isLight()) add(bidir::connect(scene, sampler, settings_.mis, light, camera, 0, t, rays).L);
+        if (mergeable(v)) {
+          mergeAt(t, false);
+          break;
+        }
+        if (!v.delta) break;
+      }
+    } else {
+      for (int t = 2; t <= nc; ++t) {
+        for (int s = 0; s <= std::max(nl, 1); ++s) {
+          int segments = s + t - 1;
+          if ((s >= 1 && !settings_.connections()) || segments > maxSeg) continue;
+          bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, camera, s, t, rays);
+          if (!isBlack(c.L) && c.weight > 0) add(c.L * c.weight);
+        }
+        if (settings_.merging() && mergeable(camera[size_t(t - 1)])) mergeAt(t, true);
+      }
+    }
+    image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
+  });
+  for (const auto& tileSplats : splats)  // fixed order: deterministic sums
+    for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);
+  film.addPass(image);
+}
+
+}  // namespace lb

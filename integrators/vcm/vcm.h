@@ -1,0 +1,69 @@
+#pragma once
+// Vertex connection and merging (Georgiev, Křivánek, Davidovič, Slusallek
+// 2012; Hachisuka, Pantaleoni, Jensen 2012 "unified path sampling"), after
+// SmallVCM. Each pass (an "iteration"):
+//  1. one light subpath per pixel (N = width × height of them); with
+//     connections on, each is connected to the camera (t = 1) and splatted;
+//  2. the light subpaths' non-specular surface vertices (not the light's
+//     own) are indexed for range search at the iteration's radius
+//        r_i = r_1 · i^((α−1)/2),   i = 1, 2, …
+//     (Georgiev et al. §5: the variance of a merge grows as r shrinks, its
+//     bias falls; α in (0, 1] trades the two, α = 1 keeps r fixed);
+//  3. one camera subpath per pixel; at each of its vertices it is connected
+//     to its pixel's light subpath (every BDPT strategy: s = 0 hitting a
+//     light, s = 1 next-event estimation, s ≥ 2 a vertex connection) and
+//     merged with every indexed light vertex within r, a merge adding
+//        β_camera · f(ω_camera, ω_light) · β_light / (N π r²) · |ω·n_s|/|ω·n_g|;
+//  4. every contribution is weighted by MIS over all connections and merges
+//     that could have produced its path (integrators/bidirectional/connect.h:
+//     pbrt's ratio walk extended with merges, η = N π r²).
+// Modes (SmallVCM's algorithms, comparable in one experiment):
+//   vcm  connections and merging
+//   bpm  bidirectional photon mapping: merging at every camera vertex, and
+//        camera subpaths hitting lights; no connections
+//   ppm  progressive photon mapping: camera subpaths through specular
+//        vertices to the first non-specular one, merged there (weight 1);
+//        lights seen through specular chains count directly
+//   bpt  connections only: bidirectional path tracing, the same estimator as
+//        `bdpt` (one light subpath per pixel per pass)
+//
+//   mode             vcm
+//   max_depth, rr, rr_depth  path length in segments, roulette (path_length.h)
+//   mis              power   power | balance
+//   radius           0       r_1 in world units; 0: relative_radius × the scene's bounding radius
+//   relative_radius  0.003   (SmallVCM's default)
+//   alpha            0.75    radius reduction, in (0, 1]
+#include <vector>
+#include "core/params.h"
+#include "integrators/bidirectional/connect.h"
+#include "integrators/integrator.h"
+#include "integrators/path_length.h"
+
+namespace lb {
+
+enum class VcmMode { Vcm, Bpm, Ppm, Bpt };
+
+struct VcmSettings {
+  VcmMode mode = VcmMode::Vcm;
+  PathLength length;
+  bidir::MisWeighting mis = bidir::MisWeighting::Power;
+  float radius = 0, relativeRadius = 0.003f;
+  float alpha = 0.75f;
+  static VcmSettings read(Params& p);
+  bool connections() const { return mode == VcmMode::Vcm || mode == VcmMode::Bpt; }
+  bool merging() const { return mode != VcmMode::Bpt; }
+};
+
+class Vcm final : public Integrator {
+ public:
+  explicit Vcm(VcmSettings s) : settings_(s) {}
+  void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
+  // The merging radius of iteration `pass` (0-based), r_1 · (pass + 1)^((α−1)/2).
+  float radius(const Scene& scene, uint64_t pass) const;
+
+ private:
+  VcmSettings settings_;
+  std::vector<std::vector<bidir::Vertex>> lightPaths_;  // this pass's, one per pixel
+};
+
+}  // namespace lb
