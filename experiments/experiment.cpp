@@ -157,7 +157,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       } catch (const YAML::Exception&) {
         sp.fail("crop", "expected four integers");
       }
-      if (s.crop.empty() || s.crop.x0 < 0 || s.crop.y0 < 0) sp.fail("crop", "must be a non-empty region");
+      if (s.crop.x0 < 0 || s.crop.y0 < 0) sp.fail("crop", "x0 and y0 must not be negative (pixels from the top left)");
+      if (s.crop.empty()) sp.fail("crop", "must be a non-empty region (x0 < x1, y0 < y1)");
     }
     sp.checkUnused();
     e.scenes.push_back(std::move(s));

@@ -189,6 +189,11 @@ def summary(labels):
     return table, best_label
 
 
+# A configuration whose final RMSE is below this many reference noise floors
+# is not ranked: the reference's own error could account for the difference.
+NO_VERDICT_FACTOR = 3
+
+
 def data_uri(path):
     with open(path, "rb") as f:
         return "data:image/png;base64," + base64.b64encode(f.read()).decode()
@@ -228,7 +233,17 @@ def write_report(run_dir, grouped, plots, meta):
         floor = scenes_meta.get(scene, {}).get("reference_rmse_floor")
         floor_text = (f" Its own noise (sqrt of its mean per-pixel variance) is {floor:.3g}: every measured MSE includes "
                       f"its square, so RMSE cannot be seen to fall below it." if floor else "")
-        parts.append(f"<p>Reference: {html.escape(ref)}.{floor_text} Best final RMSE: <b>{html.escape(best)}</b>.</p>")
+        # A final RMSE within 3× the reference's own noise cannot be told
+        # from the reference's error: such a comparison gets no verdict, and
+        # only the others are ranked (issue 13).
+        def judged(t):
+            return not floor or t["rmse"] >= NO_VERDICT_FACTOR * floor
+        ranked = sorted((l for l, t in table.items() if judged(t)), key=lambda l: table[l]["rmse"])
+        rank = {label: i + 1 for i, label in enumerate(ranked)}
+        best_text = (f"Best final RMSE: <b>{html.escape(best)}</b>." if best in rank else
+                     f"Best final RMSE: {html.escape(best)}, within {NO_VERDICT_FACTOR:g}× the reference's noise floor: "
+                     f"<b>no verdict (reference too noisy)</b>.")
+        parts.append(f"<p>Reference: {html.escape(ref)}.{floor_text} {best_text}</p>")
         # A last pass always ends a little after the budget; only an overrun
         # above 1 % of the run's time makes the comparison unequal.
         over = {label: t["over_budget"] for label, t in table.items() if t["over_budget"] > 0.01 * t["time"]}
@@ -244,7 +259,7 @@ def write_report(run_dir, grouped, plots, meta):
         columns = [("relmse", "relMSE", "{:.4g}"), ("mape", "MAPE %", "{:.3g}"), ("variance", "variance", "{:.3g}")]
         columns = [c for c in columns if c[0] in chosen]
         parts.append(
-            "<table><tr><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th>"
+            "<table><tr><th>rank</th><th>configuration</th><th>integrator</th><th>final RMSE (± sd)</th>"
             + "".join(f"<th>{c[1]}</th>" for c in columns)
             + "<th>time s</th><th>preprocess s</th><th>spp</th>"
             "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/Inf</th>"
@@ -253,7 +268,8 @@ def write_report(run_dir, grouped, plots, meta):
         for label, t in sorted(table.items(), key=lambda kv: kv[1]["rmse"]):
             reach = f"{t['time_to_best']:.3g} s" if t["time_to_best"] is not None else "not reached"
             parts.append(
-                f"<tr><td>{html.escape(label)}</td><td>{html.escape(t['integrator'])}</td>"
+                f"<tr><td>{rank[label] if label in rank else 'no verdict (reference too noisy)'}</td>"
+                f"<td>{html.escape(label)}</td><td>{html.escape(t['integrator'])}</td>"
                 f"<td>{t['rmse']:.4g} ± {t['rmse_sd']:.2g}</td>"
                 + "".join(f"<td>{c[2].format(t[c[0]])}</td>" for c in columns)
                 + f"<td>{t['time']:.3g}</td><td>{t['preprocess']:.3g}</td>"

@@ -162,6 +162,34 @@ TEST_F(Runner, ReportCopesWithOneRepeatAndUnevenSnapshots) {
   EXPECT_TRUE(fs::exists(run / "scene__rmse_vs_spp.png"));
 }
 
+// A final RMSE within 3× the reference's noise floor is marked "no verdict"
+// and not ranked (issue 13): the same run reported against a floor above
+// every RMSE, then against none.
+TEST_F(Runner, ReportGivesNoVerdictWithinThreeNoiseFloors) {
+  Experiment e = loadExperiment(writeExperiment("{spp: 8}", 1), {});
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  fs::path run = runExperiment(e, o);
+  auto report = [&](const std::string& floor) {
+    std::string edit = "/usr/bin/python3 -c \"import json,sys; p=sys.argv[1]; m=json.load(open(p)); "
+                       "[s.__setitem__('reference_rmse_floor', " + floor + ") for s in m['scenes']]; "
+                       "json.dump(m, open(p, 'w'))\" " + (run / "meta.json").string();
+    EXPECT_EQ(std::system(edit.c_str()), 0);
+    std::string cmd = "/usr/bin/python3 " + std::string(LIGHTBENCH_SOURCE_DIR) + "/experiments/report.py " +
+                      (run / "log.csv").string() + " >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    return readFile(run / "report.html");
+  };
+  std::string noisy = report("1e3");
+  EXPECT_NE(noisy.find("<b>no verdict (reference too noisy)</b>"), std::string::npos);
+  EXPECT_NE(noisy.find("<tr><td>no verdict (reference too noisy)</td><td>mis</td>"), std::string::npos);
+  EXPECT_EQ(noisy.find("<tr><td>1</td>"), std::string::npos);
+  std::string clean = report("None");
+  EXPECT_EQ(clean.find("no verdict"), std::string::npos);
+  EXPECT_NE(clean.find("<tr><td>1</td>"), std::string::npos);
+  EXPECT_NE(clean.find("<tr><td>2</td>"), std::string::npos);
+}
+
 TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
   std::ofstream(dir_ / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   std::ofstream(dir_ / "scene.yaml", std::ios::app) << "\n";  // keep the copied scene valid
@@ -298,13 +326,13 @@ TEST_F(Runner, BadExperimentFilesAreClearErrors) {
   std::string text = readFile(dir_ / "exp.yaml");
   text.replace(text.find("snapshot: {count: 2}\n"), 21, "");
   // (An integrator no issue plans, so this stays "not built".)
-  text.replace(text.find("  - {label: mis, integrator: path}"), 34, "  - {label: later, integrator: vcm}");
+  text.replace(text.find("  - {label: mis, integrator: path}"), 34, "  - {label: later, integrator: radiosity}");
   std::ofstream(dir_ / "exp.yaml") << text;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
-  EXPECT_NE(err.find("exp.yaml:8: 'configurations[1].integrator': integrator 'vcm' is not built"), std::string::npos) << err;
+  EXPECT_NE(err.find("exp.yaml:8: 'configurations[1].integrator': integrator 'radiosity' is not built"), std::string::npos) << err;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --quick --no-report --results " + (dir_ / "r").string(), &err), 0) << err;
   EXPECT_NE(err.find("warning"), std::string::npos);
-  EXPECT_NE(err.find("'vcm' is not built"), std::string::npos);
+  EXPECT_NE(err.find("'radiosity' is not built"), std::string::npos);
   // Unknown integrator parameter, missing scene, bad budget.
   writeExperiment("{spp: 2}", 1);
   text = readFile(dir_ / "exp.yaml");
