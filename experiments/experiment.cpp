@@ -8,6 +8,12 @@ namespace lb {
 
 namespace {
 
+bool integratorUnbiased(const std::string& name, const YAML::Node& params) {
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) return e.unbiased(params);
+  return false;
+}
+
 bool integratorExists(const std::string& name) {
   for (const auto& e : integratorRegistry())
     if (e.name == name) return true;
@@ -76,6 +82,12 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
       ref->fail("integrator", "unknown integrator '" + r.integrator + "' (available: " + availableIntegrators() + ")");
     r.params = integratorParams(*ref, "params");
     validateIntegrator(r.integrator, r.params, ref->file(), ref->context() + ".params");
+    // A consistent reference carries its own bias into every comparison
+    // against it: allowed only when asked for (issue 13).
+    bool allowBiased = ref->getBool("allow_biased_reference", false);
+    if (!allowBiased && !integratorUnbiased(r.integrator, r.params))
+      ref->fail("integrator", "'" + r.integrator + "' with these parameters is not unbiased: its bias would be in the "
+                "reference; use path, light, bdpt or vcm with mode: bpt, or say allow_biased_reference: true");
     int spp = ref->getInt("spp", 1024);
     if (spp < 1) ref->fail("spp", "must be at least 1");
     r.spp = options.quick ? std::max(1, spp / 4) : uint64_t(spp);

@@ -9,22 +9,28 @@
 
 namespace lb {
 
+namespace {
+bool always(const YAML::Node&) { return true; }
+bool never(const YAML::Node&) { return false; }
+}  // namespace
+
 const std::vector<IntegratorEntry>& integratorRegistry() {
   static const std::vector<IntegratorEntry> table = {
       {"path", "unidirectional path tracing: uniform/cosine/BSDF sampling, NEE, MIS, Russian roulette",
-       [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); }, always},
       {"light", "light tracing: particles from the lights splatted to the camera (t = 1 strategies)",
-       [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }, always},
       {"bdpt", "bidirectional path tracing, every (s,t) strategy, MIS balance/power/uniform",
-       [](Params& p) { return std::make_unique<Bdpt>(BdptSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<Bdpt>(BdptSettings::read(p)); }, always},
       {"photon", "photon mapping: caustic + global maps (FLANN kd-tree), NEE, final gathering",
-       [](Params& p) { return std::make_unique<PhotonMapper>(PhotonSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<PhotonMapper>(PhotonSettings::read(p)); }, never},
       {"sppm", "stochastic progressive photon mapping: per-pixel radius reduction, consistent",
-       [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }, never},
       {"irradiance_cache", "irradiance caching with gradients (Ward 1988/1992): path or photon-map base estimator",
-       [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }, never},
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
-       [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); }},
+       [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
+       [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
   };
   return table;
 }

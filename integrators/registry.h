@@ -15,6 +15,11 @@ struct IntegratorEntry {
   std::string summary;
   // Reads the integrator's parameters; must reject unknown keys.
   std::function<std::unique_ptr<Integrator>(Params&)> create;
+  // Whether the estimator, with these parameters, is unbiased (its expected
+  // value is the image at any sample count): only such an integrator may
+  // render an experiment's reference without the user saying otherwise.
+  // Consistent ones (photon maps, caches, merging) carry their bias into it.
+  std::function<bool(const YAML::Node& params)> unbiased;
 };
 
 const std::vector<IntegratorEntry>& integratorRegistry();

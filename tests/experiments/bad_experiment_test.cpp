@@ -246,6 +246,18 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is out of range");
 }
 
+// A consistent integrator's bias would be in the reference (issue 13): it is
+// refused unless the experiment says so; an unbiased VCM mode is fine.
+TEST_F(BadExperiment, ABiasedReferenceIntegratorNeedsToBeAllowed) {
+  writeExperiment("{integrator: sppm, spp: 1}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.integrator': 'sppm' with these parameters is not unbiased");
+  writeExperiment("{integrator: vcm, spp: 1}");
+  expectRefused("'scenes[0].reference.integrator': 'vcm' with these parameters is not unbiased");
+  for (const char* ok : {"{integrator: sppm, spp: 1, allow_biased_reference: true}",
+                         "{integrator: vcm, params: {mode: bpt}, spp: 1}", "{integrator: bdpt, spp: 1}"})
+    EXPECT_NO_THROW(loadExperiment(writeExperiment(ok), {})) << ok;
+}
+
 TEST_F(BadExperiment, AnExperimentThatIsNotARegularFileIsRefused) {
   ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0644), 0);
   std::string err;
