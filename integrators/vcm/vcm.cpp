@@ -1,4 +1,5 @@
 #include "integrators/vcm/vcm.h"
+#include <chrono>
 #include <cmath>
 #include "core/bsdfs/bsdf.h"
 #include "integrators/bidirectional/subpaths.h"
@@ -56,6 +57,9 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
   const size_t lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+  Clock::time_point t0 = Clock::now();
   // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
   //    camera subpath; with connections, each vertex is joined to the camera.
   lightPaths_.resize(N);
@@ -80,6 +84,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     lightPaths_[pixel].assign(light.begin(), light.begin() + n);
   });
 
+  Clock::time_point t1 = Clock::now();
   // 2. The merging index over every light vertex photons can be merged at.
   std::vector<Vec3> points;
   std::vector<LightVertexRef> refs;
@@ -88,6 +93,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       for (size_t j = 1; j < lightPaths_[p].size(); ++j)
         if (mergeable(lightPaths_[p][j])) points.push_back(lightPaths_[p][j].p), refs.push_back({uint32_t(p), uint32_t(j)});
   PointIndex index(points);
+  Clock::time_point t2 = Clock::now();
 
   // 3. Camera subpaths: connections to the pixel's own light subpath, merges
   //    with every light vertex within r.
@@ -165,6 +171,8 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums
     for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);
   film.addPass(image);
+  Clock::time_point t3 = Clock::now();
+  timings_.lightSubpaths += seconds(t0, t1), timings_.index += seconds(t1, t2), timings_.cameraSubpaths += seconds(t2, t3);
 }
 
 }  // namespace lb

@@ -11,6 +11,7 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
+#include "integrators/vcm/vcm.h"
 #include "integrators/render_loop.h"
 #include "tests/support/render_helpers.h"
 
@@ -199,6 +200,32 @@ void SppmPass(benchmark::State& state, const char* lookup) {
 }
 BENCHMARK_CAPTURE(SppmPass, grid, "grid")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(SppmPass, flann, "flann")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+
+// VCM iterations (one light and one camera subpath per pixel, 128², the
+// Cornell box with spheres) per mode, and the split of their time: light
+// subpaths (with their camera connections), the merging index, camera
+// subpaths (connections and merges). bpt − vs vcm shows what merging costs.
+void VcmIteration(benchmark::State& state, const char* mode) {
+  static SceneFile sf = test::loadShippedScene("cornell-box-spheres", 128, 128);
+  Params params(YAML::Load(std::string("{mode: ") + mode + "}"), "", "integrator");
+  Vcm vcm(VcmSettings::read(params));
+  Film film(128, 128);
+  auto sampler = makeSampler(sf.sampler, 1);
+  PassStats stats;
+  uint64_t pass = 0;
+  enableFlushToZeroOnAllThreads();
+  for (auto _ : state) vcm.renderPass(*sf.scene, film, *sampler, pass++, stats);
+  const VcmTimings& t = vcm.timings();
+  double n = double(std::max<uint64_t>(pass, 1));
+  state.counters["iterations/s"] = benchmark::Counter(double(pass), benchmark::Counter::kIsRate);
+  state.counters["light ms"] = 1e3 * t.lightSubpaths / n;
+  state.counters["index ms"] = 1e3 * t.index / n;
+  state.counters["camera ms"] = 1e3 * t.cameraSubpaths / n;
+}
+BENCHMARK_CAPTURE(VcmIteration, vcm, "vcm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpm, "bpm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, ppm, "ppm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpt, "bpt")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
