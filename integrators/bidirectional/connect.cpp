@@ -47,7 +47,10 @@ float geometry(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& r
   return g;
 }
 
-float heuristicTerm(MisWeighting h, float r) {
+// In double: a merge's term (r · p · η)² can pass a float's range on paths
+// that merging samples far better than anything else (its weight must then
+// be ~1, not Inf/Inf).
+double heuristicTerm(MisWeighting h, double r) {
   switch (h) {
     case MisWeighting::Power: return r * r;
     case MisWeighting::Balance: return r;
@@ -118,25 +121,28 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   float neeOverEmit = pEmit > 0 ? pdfLightNee(scene, y0, y1) / pEmit : 0.f;
   // A connection s' ≥ 1 competes only where connections are allowed; s' = 0
   // (a camera subpath that hits the light) always does.
-  auto connection = [&](float r, int sOther) {
-    if (sOther >= 1 && !allowed.connections) return 0.f;
+  auto connection = [&](double r, int sOther) {
+    if (sOther >= 1 && !allowed.connections) return 0.0;
     return heuristicTerm(h, sOther == 1 ? r * neeOverEmit : r);
   };
-  auto merge = [&](float r, const Vertex& v) {
-    return allowed.mergeEta > 0 ? heuristicTerm(h, r * v.pdfFwd * allowed.mergeEta) : 0.f;
+  auto merge = [&](double r, const Vertex& v) {
+    return allowed.mergeEta > 0 ? heuristicTerm(h, r * v.pdfFwd * allowed.mergeEta) : 0.0;
   };
   auto mergeable = [](const Vertex& v) { return v.type == VertexType::Surface && !v.delta && v.connectible(); };
   // Beyond a zero forward density the base itself is impossible: weights 0.
   bool baseZero = false;
-  auto ratio = [&](float rev, float fwd) {
+  auto ratio = [&](double rev, double fwd) {
     baseZero |= !(fwd > 0);
-    return fwd > 0 ? rev / fwd : 0.f;
+    return fwd > 0 ? rev / fwd : 0.0;
   };
 
   TechniqueWeights w;
   // A merge's path need not be connectible at (s, t): light[s-1] may be delta.
-  float own = merged && s > 0 && !qs->connectible() ? 0.f : connection(1, s);
-  float sum = 0, r = 1;
+  // (s = 1 is next-event estimation, which samples the light itself: the
+  // factor neeOverEmit already says whether it can, e.g. for a directional
+  // light, whose own vertex is not "connectible".)
+  double own = merged && s >= 2 && !qs->connectible() ? 0.0 : connection(1, s);
+  double sum = 0, mergeHere = 0, r = 1;
   // Camera side: moving the connection one vertex towards the camera gives
   // strategy s' = s + t - i, which connects camera[i - 1] and camera[i];
   // camera[i] is then reached from both sides, and can be merged.
@@ -146,9 +152,9 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
     if (!v.delta && !camera[size_t(i - 1)].delta) sum += connection(r, s + t - i);
     bool isLightOrigin = s == 0 && i == t - 1;
     if (mergeable(v) && !isLightOrigin) {
-      float m = merge(r, v);
+      double m = merge(r, v);
       sum += m;
-      if (i == t - 1) w.mergeAtCamera = m;
+      if (i == t - 1) mergeHere = m;
     }
   }
   // Light side: strategy s' = i connects light[i - 1] and light[i]; s' = 0
@@ -165,10 +171,10 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   // With the NEE endpoint own (BDPT's s = 1), the base is emission-sampled
   // but the technique is not: own = h(neeOverEmit), so a zero NEE density
   // gives weight 0.
-  float total = own + sum;
+  double total = own + sum;
   if (!(total > 0)) return {};
-  w.connection = own / total;
-  w.mergeAtCamera /= total;
+  w.connection = float(own / total);
+  w.mergeAtCamera = float(mergeHere / total);
   return w;
 }
 
