@@ -1,5 +1,6 @@
 #include "experiments/experiment.h"
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include "core/scene_loader.h"
 #include "integrators/registry.h"
@@ -88,9 +89,32 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
     if (!allowBiased && !integratorUnbiased(r.integrator, r.params))
       ref->fail("integrator", "'" + r.integrator + "' with these parameters is not unbiased: its bias would be in the "
                 "reference; use path, light, bdpt or vcm with mode: bpt, or say allow_biased_reference: true");
-    int spp = ref->getInt("spp", 1024);
-    if (spp < 1) ref->fail("spp", "must be at least 1");
-    r.spp = options.quick ? std::max(1, spp / 4) : uint64_t(spp);
+    // One budget: samples, seconds or a noise floor (issue 13).
+    int budgets = int(ref->has("spp")) + int(ref->has("seconds")) + int(ref->has("noise_floor"));
+    if (budgets > 1)
+      ref->fail(ref->has("noise_floor") ? "noise_floor" : "seconds",
+                "give one reference budget: spp, seconds or noise_floor");
+    if (ref->has("seconds")) {
+      double seconds = ref->getFloat("seconds", 0);
+      if (!(seconds > 0 && seconds <= 30 * 24 * 3600.0)) ref->fail("seconds", "must be > 0 and at most 30 days");
+      r.spp = 0;
+      r.seconds = options.quick ? seconds / 4 : seconds;
+    } else if (ref->has("noise_floor")) {
+      double floor = ref->getFloat("noise_floor", 0);
+      if (!(floor > 0 && std::isfinite(floor))) ref->fail("noise_floor", "must be > 0 (an RMSE)");
+      r.spp = 0;
+      r.noiseFloor = options.quick ? floor * 2 : floor;  // a quarter of the work
+    } else {
+      int spp = ref->getInt("spp", 1024);
+      if (spp < 1) ref->fail("spp", "must be at least 1");
+      r.spp = options.quick ? std::max(1, spp / 4) : uint64_t(spp);
+    }
+    int chunk = ref->getInt("chunk_spp", int(r.chunkSpp));
+    if (chunk < 1 || chunk > 1 << 20) ref->fail("chunk_spp", "must be between 1 and 1048576");
+    r.chunkSpp = uint64_t(chunk);
+    // A sample budget makes two chunks at least (their spread is the
+    // variance), unless it is a single sample.
+    if (r.spp > 0) r.chunkSpp = std::min<uint64_t>(r.chunkSpp, std::max<uint64_t>(1, r.spp / 2));
     r.seed = uint64_t(ref->getInt("seed", int(r.seed)));
   }
   ref->checkUnused();

@@ -25,7 +25,14 @@ struct ReferenceSpec {
                                // point-light version); empty: the run's scene with all its overrides
   std::string integrator = "path";
   YAML::Node params{YAML::NodeType::Map};
-  uint64_t spp = 1024;
+  // The budget: one of spp, seconds or a target noise floor (RMSE of the
+  // reference's own noise). It is rendered in chunks of chunkSpp samples per
+  // pixel with independent seeds, averaged; the cache keeps the chunks' mean
+  // and variance, so a larger budget later extends it instead of starting over.
+  uint64_t spp = 1024;         // 0 when seconds or noiseFloor is the budget
+  double seconds = 0;
+  double noiseFloor = 0;
+  uint64_t chunkSpp = 256;
   uint64_t seed = 1000003;     // distinct from the runs' seeds
 };
 
@@ -64,7 +71,7 @@ struct Experiment {
 };
 
 struct ExperimentOptions {
-  bool quick = false;          // budget ÷ 4, one repeat, reference spp ÷ 4; unbuilt integrators skipped
+  bool quick = false;          // budget ÷ 4, one repeat, reference budget ÷ 4 (its floor × 2); unbuilt integrators skipped
 };
 
 Experiment loadExperiment(const std::string& path, const ExperimentOptions& options);

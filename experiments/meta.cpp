@@ -1,4 +1,5 @@
 #include "experiments/meta.h"
+#include "experiments/reference.h"
 #include <OpenEXR/OpenEXRConfig.h>
 #include <OpenMesh/Core/System/config.h>
 #include <embree3/rtcore_config.h>
@@ -90,7 +91,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
       << ", \"overrides\": " << jsonString(flowYaml(s.overrides)) << ", \"reference\": "
       << jsonString(key == m.referenceKeys.end() ? "" : key->second) << ", \"reference_integrator\": "
       << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + flowYaml(s.reference.params) + " " +
-                                                   std::to_string(s.reference.spp) + " spp"
+                                                   referenceBudget(s.reference)
                                              : "file")
       << ", \"reference_rmse_floor\": "
       << (m.referenceRmseFloor.count(s.name) && std::isfinite(m.referenceRmseFloor.at(s.name))

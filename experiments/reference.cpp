@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 #include "core/scene_loader.h"
+#include "render_source_hash.h"
 #include "integrators/registry.h"
 
 namespace lb {
@@ -51,9 +52,11 @@ std::string referenceName(const ExperimentScene& s) {
 
 std::string referenceKey(const ExperimentScene& s) {
   Fnv1a f;
-  // The renderer's version and commit: a fixed integrator must not keep
-  // serving references computed before the fix.
-  f.add("lightbench-reference-v1 " LIGHTBENCH_VERSION " " LIGHTBENCH_GIT);
+  // The rendering code's hash (core/ and integrators/, cmake/
+  // render_source_hash.cmake): a fixed integrator must not keep serving
+  // references computed before the fix, but a commit that changes only the
+  // experiments or the docs keeps a long reference usable.
+  f.add("lightbench-reference-v2 " LIGHTBENCH_RENDER_SOURCE_HASH);
   const std::string& scene = referenceScene(s);
   f.add(readBytes(scene));
   YAML::Node root = loadYamlFile(scene);
@@ -64,49 +67,180 @@ std::string referenceKey(const ExperimentScene& s) {
   f.add(flowYaml(referenceOverrides(s)));
   f.add(s.reference.integrator);
   f.add(flowYaml(s.reference.params));
-  f.add(std::to_string(s.reference.spp) + "/" + std::to_string(s.reference.seed));
+  // Not the budget: the same chunks serve any budget, and more of them extend it.
+  f.add(std::to_string(s.reference.chunkSpp) + "/" + std::to_string(s.reference.seed));
   return f.hex();
 }
+
+std::string referenceBudget(const ReferenceSpec& r) {
+  std::ostringstream out;
+  if (r.seconds > 0) out << r.seconds << " s";
+  else if (r.noiseFloor > 0) out << "noise floor " << r.noiseFloor;
+  else out << r.spp << " spp";
+  return out.str();
+}
+
+namespace {
+
+// The running mean and sum of squared deviations over chunks, per pixel and
+// channel (Welford's update, in chunk order: the same chunks give the same
+// result whatever the thread count).
+struct ChunkAccumulator {
+  int width = 0, height = 0;
+  uint64_t chunks = 0;
+  std::vector<glm::dvec3> mean, m2;
+
+  ChunkAccumulator(int w, int h) : width(w), height(h), mean(size_t(w) * h, glm::dvec3(0)), m2(mean) {}
+  void add(const Image& chunk) {
+    ++chunks;
+    for (size_t i = 0; i < mean.size(); ++i) {
+      glm::dvec3 x(chunk.pixels[i]);
+      glm::dvec3 d = x - mean[i];
+      mean[i] += d / double(chunks);
+      m2[i] += d * (x - mean[i]);
+    }
+  }
+  Image meanImage() const {
+    Image out(width, height);
+    for (size_t i = 0; i < mean.size(); ++i) out.pixels[i] = Color(mean[i]);
+    return out;
+  }
+  // The variance of the mean of the chunks: the sample variance across chunks
+  // divided by their number. Needs two chunks.
+  Image varianceOfMeanImage() const {
+    Image out(width, height);
+    double scale = chunks > 1 ? 1.0 / (double(chunks - 1) * double(chunks)) : 0.0;
+    for (size_t i = 0; i < m2.size(); ++i) out.pixels[i] = Color(m2[i] * scale);
+    return out;
+  }
+  double varianceOfMean() const {
+    if (chunks < 2) return NAN;
+    double sum = 0;
+    for (const auto& v : m2) sum += v.x + v.y + v.z;
+    return sum / (3.0 * double(m2.size()) * double(chunks - 1) * double(chunks));
+  }
+  // Back from the cache: m2 = variance of the mean × n(n − 1).
+  void restore(const Image& meanImage, const Image& varianceOfMean, uint64_t n) {
+    chunks = n;
+    for (size_t i = 0; i < mean.size(); ++i) {
+      mean[i] = glm::dvec3(meanImage.pixels[i]);
+      m2[i] = glm::dvec3(varianceOfMean.pixels[i]) * (double(n) * double(n - 1));
+    }
+  }
+};
+
+// Chunk k's seed: mixed (splitmix64), so no chunk shares a seed with a run
+// (runs use seed + 7919·repeat) or with another chunk.
+uint64_t chunkSeed(uint64_t seed, uint64_t k) {
+  uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (k + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// Fewest chunks before a noise floor is trusted: the variance across chunks
+// has chunks − 1 degrees of freedom per pixel.
+constexpr uint64_t MinChunksForFloor = 4;
+
+bool budgetMet(const ReferenceSpec& r, uint64_t chunks, double seconds, double varianceOfMean) {
+  if (r.spp > 0) return chunks * r.chunkSpp >= r.spp;  // 1 spp: one chunk, no variance
+  if (chunks < 2) return false;
+  if (r.seconds > 0) return seconds >= r.seconds;
+  return chunks >= MinChunksForFloor && std::sqrt(varianceOfMean) <= r.noiseFloor;
+}
+
+struct CachePaths {
+  std::filesystem::path mean, variance, sidecar;
+};
+
+std::string fileHash(const std::filesystem::path& a, const std::filesystem::path& b) {
+  return hashStrings({readBytes(a.string()), readBytes(b.string())});
+}
+
+}  // namespace
 
 Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot, const std::string& key) {
   if (!s.reference.file.empty()) {
     std::cerr << "reference: " << s.reference.file << " (given)\n";
     return {readExr(s.reference.file)};
   }
+  const ReferenceSpec& spec = s.reference;
   std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
   std::filesystem::create_directories(dir);
-  std::filesystem::path exr = dir / (referenceName(s) + "-" + key + ".exr");
-  std::filesystem::path sidecar = dir / (referenceName(s) + "-" + key + ".yaml");
-  if (std::filesystem::exists(exr)) {
-    std::cerr << "reference: " << exr.string() << " (cached)\n";
-    Reference r{readExr(exr.string())};
-    if (std::filesystem::exists(sidecar)) {
-      // The sidecar is ours, but a user may have edited or truncated it.
-      Params info(loadYamlFile(sidecar.string()), sidecar.string(), "");
-      if (info.has("variance_of_mean")) r.varianceOfMean = info.getFloat("variance_of_mean", 0);
-    }
-    return r;
-  }
- std::cerr << "reference: rendering " << referenceName(s) << " with '" << s.reference.integrator << "' at "
-            << s.reference.spp << " spp (cached for later runs as " << exr.string() << ")\n";
+  std::string stem = referenceName(s) + "-" + key;
+  CachePaths cache{dir / (stem + ".exr"), dir / (stem + ".variance.exr"), dir / (stem + ".yaml")};
+
   SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s));
-  Params params(s.reference.params, s.path, "reference.params");
-  auto integrator = makeIntegrator(s.reference.integrator, params);
-  Film film(sf.scene->camera.width(), sf.scene->camera.height());
-  RenderOptions options;
-  options.seed = s.reference.seed;
-  options.budget.spp = s.reference.spp;
-  options.progress = true;
-  RenderReport rep = renderLoop(*sf.scene, *integrator, film, sf.sampler, options);
-  Image image = film.image();
-  writeExr(exr.string(), image);
-  std::ostringstream info;
-  info << "scene: " << referenceScene(s) << "\nintegrator: " << s.reference.integrator << "\nparams: " << flowYaml(s.reference.params)
-       << "\nspp: " << s.reference.spp << "\nseed: " << s.reference.seed << "\nseconds: " << rep.seconds
-       << "\nnon_finite_samples: " << rep.nonFinite << "\nvariance_of_mean: " << film.meanVarianceOfMean()
-       << "\nkey: " << key << "\n";
-  writeTextFile(sidecar.string(), info.str());
-  return {image, film.meanVarianceOfMean()};
+  int width = sf.scene->camera.width(), height = sf.scene->camera.height();
+  ChunkAccumulator acc(width, height);
+  double seconds = 0;
+  uint64_t nonFinite = 0;
+  if (std::filesystem::exists(cache.sidecar) && std::filesystem::exists(cache.mean) &&
+      std::filesystem::exists(cache.variance)) {
+    // The sidecar is ours, but a user may have edited or truncated it.
+    Params info(loadYamlFile(cache.sidecar.string()), cache.sidecar.string(), "");
+    uint64_t chunks = uint64_t(info.getInt("chunks", 0));
+    double cachedSeconds = info.getFloat("seconds", 0);
+    std::string hash = info.getString("files_hash", "");
+    if (info.has("variance_of_mean")) info.getFloat("variance_of_mean", 0);
+    Image mean = readExr(cache.mean.string()), variance = readExr(cache.variance.string());
+    if (chunks >= 1 && hash == fileHash(cache.mean, cache.variance) && mean.width == width && mean.height == height &&
+        variance.width == width && variance.height == height) {
+      acc.restore(mean, variance, chunks);
+      seconds = cachedSeconds;
+      nonFinite = uint64_t(info.getInt("non_finite_samples", 0));
+    } else {
+      std::cerr << "reference: " << cache.mean.string() << " does not match its sidecar (an interrupted write or an "
+                << "edit); rendering it anew\n";
+    }
+  }
+  if (budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
+    std::cerr << "reference: " << cache.mean.string() << " (cached: " << acc.chunks << " chunks of " << spec.chunkSpp
+              << " spp, noise floor " << std::sqrt(acc.varianceOfMean()) << ")\n";
+    return {acc.meanImage(), acc.varianceOfMean()};
+  }
+
+  std::cerr << "reference: " << (acc.chunks ? "extending " : "rendering ") << referenceName(s) << " with '"
+            << spec.integrator << "' to " << referenceBudget(spec) << " in chunks of " << spec.chunkSpp
+            << " spp (cached as " << cache.mean.string() << "; an interrupted render keeps its finished chunks)\n";
+  Params params(spec.params, s.path, "reference.params");
+  auto integrator = makeIntegrator(spec.integrator, params);
+  if (acc.chunks == 0) seconds = sf.scene->buildSeconds();
+  while (!budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
+    Film film(width, height);
+    RenderOptions options;
+    options.seed = chunkSeed(spec.seed, acc.chunks);
+    options.budget.spp = spec.chunkSpp;
+    RenderReport rep = renderLoop(*sf.scene, *integrator, film, sf.sampler, options);
+    acc.add(film.image());
+    seconds += rep.seconds;
+    nonFinite += rep.nonFinite;
+
+    // Saved after every chunk: the mean and variance images first, then the
+    // sidecar naming their hash (a write cut between them is detected above).
+    writeExr(cache.mean.string(), acc.meanImage());
+    writeExr(cache.variance.string(), acc.varianceOfMeanImage());
+    double v = acc.varianceOfMean();
+    std::ostringstream info;
+    info << "scene: " << referenceScene(s) << "\nintegrator: " << spec.integrator
+         << "\nparams: " << flowYaml(spec.params) << "\nchunk_spp: " << spec.chunkSpp << "\nchunks: " << acc.chunks
+         << "\nspp: " << acc.chunks * spec.chunkSpp << "\nseed: " << spec.seed << "\nseconds: " << seconds
+         << "\nnon_finite_samples: " << nonFinite;
+    if (std::isfinite(v)) info << "\nvariance_of_mean: " << v << "\nnoise_floor: " << std::sqrt(v);
+    info << "\nfiles_hash: " << fileHash(cache.mean, cache.variance) << "\nkey: " << key << "\n";
+    writeTextFile(cache.sidecar.string(), info.str());
+
+    std::ostringstream line;
+    line << "reference " << referenceName(s) << ": chunk " << acc.chunks << " (" << acc.chunks * spec.chunkSpp
+         << " spp, " << int(seconds) << " s)";
+    if (acc.chunks >= 2) line << ", noise floor " << std::sqrt(v);
+    if (spec.noiseFloor > 0 && acc.chunks >= 2 && std::sqrt(v) > spec.noiseFloor)
+      // The floor falls as 1/sqrt(time): about (floor/target)² times the time so far.
+      line << " → " << spec.noiseFloor << ", about " << int(seconds * (v / (spec.noiseFloor * spec.noiseFloor) - 1))
+           << " s more";
+    std::cerr << line.str() << "\n";
+  }
+  return {acc.meanImage(), acc.varianceOfMean()};
 }
 
 }  // namespace lb

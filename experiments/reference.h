@@ -1,9 +1,13 @@
 #pragma once
-// References: an EXR given by the experiment, or one computed once and cached
-// under <results>/references/, keyed by a hash of everything that determines
-// it — the scene file's bytes, the bytes of every mesh it names, the
-// resolution override, the integrator, its parameters, spp and seed — so an
-// edited scene or mesh never reuses a stale reference.
+// References: an EXR given by the experiment, or one computed and cached under
+// <results>/references/, keyed by a hash of everything that determines it —
+// the rendering code, the scene file's bytes, the bytes of every mesh it
+// names, the resolution override, the integrator, its parameters, the chunk
+// size and the seed — so an edited scene or mesh never reuses a stale
+// reference. The budget is not in the key: a reference is rendered as
+// independent seeded chunks (issue 13), <key>.exr holds their mean and
+// <key>.variance.exr its per-pixel variance (across chunks, divided by their
+// number), and a larger budget later adds chunks to the cached ones.
 #include <string>
 #include "core/image.h"
 #include "experiments/experiment.h"
@@ -12,6 +16,8 @@ namespace lb {
 
 // FNV-1a over the inputs above, as 16 hex digits.
 std::string referenceKey(const ExperimentScene& scene);
+// "2048 spp", "600 s" or "noise floor 0.002".
+std::string referenceBudget(const ReferenceSpec& reference);
 // FNV-1a of several strings (each delimited), as 16 hex digits.
 std::string hashStrings(const std::vector<std::string>& parts);
 

@@ -198,6 +198,18 @@ TEST_F(BadExperiment, AMetricThatIsNotANameIsRefused) {
   expectRefused("exp.yaml:11: 'metrics': each metric is a name");
 }
 
+// A reference has one budget (issue 13), and each must be positive.
+TEST_F(BadExperiment, AReferenceBudgetIsOneOfSppSecondsOrNoiseFloor) {
+  writeExperiment("{integrator: path, spp: 64, seconds: 10}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.seconds': give one reference budget: spp, seconds or noise_floor");
+  writeExperiment("{integrator: path, noise_floor: 0}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.noise_floor': must be > 0");
+  writeExperiment("{integrator: path, seconds: -1}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.seconds': must be > 0");
+  writeExperiment("{integrator: path, seconds: 1, chunk_spp: 0}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.chunk_spp': must be between 1 and 1048576");
+}
+
 // A corrupt cached reference sidecar (results/references/*.yaml) is named, not
 // "bad conversion".
 TEST_F(BadExperiment, ACorruptCachedReferenceSidecarIsNamed) {

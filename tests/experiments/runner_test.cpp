@@ -207,8 +207,11 @@ TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
   std::ofstream(dir_ / "scene.yaml", std::ios::app) << "# edited\n";
   std::string k2 = referenceKey(e.scenes[0]);
   EXPECT_NE(k2, k1) << "a scene edit must invalidate the reference";
-  e.scenes[0].reference.spp += 1;
+  e.scenes[0].reference.chunkSpp += 1;
   EXPECT_NE(referenceKey(e.scenes[0]), k2) << "other reference settings must too";
+  e.scenes[0].reference.chunkSpp -= 1;
+  e.scenes[0].reference.spp *= 4;
+  EXPECT_EQ(referenceKey(e.scenes[0]), k2) << "the budget must not: a larger one extends the cached chunks";
 
   // And the cache is used: a second run finds the file the first one wrote.
   Experiment small = loadExperiment(writeExperiment("{spp: 2}", 1), {});
@@ -294,7 +297,8 @@ TEST_F(Runner, ScenesCanBeNamedScaledAndJudgedAgainstAnotherScene) {
   ASSERT_EQ(runBinary((dir_ / "exp.yaml").string() + " --no-report --results " + results.string(), &err), 0) << err;
   // Both scenes are judged against one reference, rendered once from the unscaled scene.
   int references = 0;
-  for (const auto& entry : fs::directory_iterator(results / "references")) references += entry.path().extension() == ".exr";
+  for (const auto& entry : fs::directory_iterator(results / "references"))
+    references += entry.path().extension() == ".exr" && entry.path().stem().extension() != ".variance";
   EXPECT_EQ(references, 1);
   fs::path run = *fs::directory_iterator(results / "exp");
   CsvTable log = readCsv(run / "log.csv");
