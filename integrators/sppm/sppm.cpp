@@ -5,6 +5,7 @@
 #include "integrators/direct_light.h"
 #include "integrators/pixel_tiles.h"
 #include "integrators/photon_map/photon_map.h"
+#include "integrators/photon_map/point_grid.h"
 #include "integrators/photon_map/photon_tracing.h"
 
 namespace lb {
@@ -37,35 +38,6 @@ struct VisiblePoint {
 struct Deposit {
   uint32_t pixel;
   Color flux;
-};
-// Visible points hashed into a uniform grid: each point sits in every cell
-// its radius ball overlaps, so a photon only reads the cell it lands in.
-class VisiblePointGrid {
- public:
-  VisiblePointGrid(const std::vector<Vec3>& p, const std::vector<float>& radius, float cellSize)
-      : cell_(cellSize), buckets_(std::max<size_t>(1, p.size())) {
-    for (size_t i = 0; i < p.size(); ++i) {
-      glm::ivec3 lo = cellOf(p[i] - Vec3(radius[i])), hi = cellOf(p[i] + Vec3(radius[i]));
-      for (int z = lo.z; z <= hi.z; ++z)
-        for (int y = lo.y; y <= hi.y; ++y)
-          for (int x = lo.x; x <= hi.x; ++x) {
-            // Two cells of one point may hash to the same bucket: store it once,
-            // or a photon there would deposit into it twice.
-            auto& bucket = buckets_[hash({x, y, z})];
-            if (bucket.empty() || bucket.back() != uint32_t(i)) bucket.push_back(uint32_t(i));
-          }
-    }
-  }
-  const std::vector<uint32_t>& candidates(const Vec3& p) const { return buckets_[hash(cellOf(p))]; }
-
- private:
-  glm::ivec3 cellOf(const Vec3& p) const { return glm::ivec3(glm::floor(p / cell_)); }
-  size_t hash(glm::ivec3 c) const {
-    return size_t((uint32_t(c.x) * 73856093u) ^ (uint32_t(c.y) * 19349663u) ^ (uint32_t(c.z) * 83492791u)) %
-           buckets_.size();
-  }
-  float cell_;
-  std::vector<std::vector<uint32_t>> buckets_;
 };
 }  // namespace
 
@@ -104,8 +76,8 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
       maxRadius = std::max(maxRadius, pixels_[i].R);
     }
   std::unique_ptr<PointIndex> index;
-  std::unique_ptr<VisiblePointGrid> grid;
-  if (settings_.gridLookup) grid = std::make_unique<VisiblePointGrid>(positions, radii, std::max(maxRadius, 1e-30f));
+  std::unique_ptr<PointGrid> grid;
+  if (settings_.gridLookup) grid = std::make_unique<PointGrid>(positions, radii, std::max(maxRadius, 1e-30f));
   else index = std::make_unique<PointIndex>(positions);
   size_t M = settings_.photonsPerPass;
   size_t chunks = (M + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;

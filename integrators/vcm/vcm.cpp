@@ -4,6 +4,7 @@
 #include "core/bsdfs/bsdf.h"
 #include "integrators/bidirectional/subpaths.h"
 #include "integrators/photon_map/photon_map.h"
+#include "integrators/photon_map/point_grid.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -24,6 +25,7 @@ VcmSettings VcmSettings::read(Params& p) {
   if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
   s.alpha = p.getFloat("alpha", s.alpha);
   if (!(s.alpha > 0 && s.alpha <= 1)) p.fail("alpha", "must be in (0, 1]");
+  s.gridLookup = p.getChoice("lookup", "flann", {"grid", "flann"}) == "grid";
   p.checkUnused();
   return s;
 }
@@ -92,7 +94,10 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     for (size_t p = 0; p < N; ++p)
       for (size_t j = 1; j < lightPaths_[p].size(); ++j)
         if (mergeable(lightPaths_[p][j])) points.push_back(lightPaths_[p][j].p), refs.push_back({uint32_t(p), uint32_t(j)});
-  PointIndex index(points);
+  std::unique_ptr<PointGrid> grid;
+  std::unique_ptr<PointIndex> index;
+  if (settings_.merging() && settings_.gridLookup) grid = std::make_unique<PointGrid>(points, r);
+  else if (settings_.merging()) index = std::make_unique<PointIndex>(points);
   Clock::time_point t2 = Clock::now();
 
   // 3. Camera subpaths: connections to the pixel's own light subpath, merges
@@ -121,7 +126,16 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     // mode (the only technique there).
     auto mergeAt = [&](int t, bool weighted) {
       const Vertex& pt = camera[size_t(t - 1)];
-      index.radius(pt.p, r, found);
+      found.clear();
+      if (grid) {
+        for (uint32_t k : grid->candidates(pt.p))
+          if (float d2 = glm::dot(points[k] - pt.p, points[k] - pt.p); d2 < r * r) found.push_back({k, d2});  // strictly inside, as FLANN
+      } else {
+        index->radius(pt.p, r, found);
+        // In index order, as the grid gives them: both lookups sum the same
+        // merges in the same order, so they render the same image bit for bit.
+        std::sort(found.begin(), found.end());
+      }
       for (const auto& [k, d2] : found) {
         const LightVertexRef& ref = refs[k];
         int s = int(ref.index);  // light vertices before the merged one
@@ -163,7 +177,8 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
           bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, camera, s, t, rays);
           if (!isBlack(c.L) && c.weight > 0) add(c.L * c.weight);
         }
-        if (settings_.merging() && mergeable(camera[size_t(t - 1)])) mergeAt(t, true);
+        // A merge uses s >= 1 light vertices, s + t − 1 segments: none fits beyond t = max_depth.
+        if (settings_.merging() && t <= maxSeg && mergeable(camera[size_t(t - 1)])) mergeAt(t, true);
       }
     }
     image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)

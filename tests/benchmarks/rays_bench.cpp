@@ -205,9 +205,9 @@ BENCHMARK_CAPTURE(SppmPass, flann, "flann")->Unit(benchmark::kMillisecond)->UseR
 // Cornell box with spheres) per mode, and the split of their time: light
 // subpaths (with their camera connections), the merging index, camera
 // subpaths (connections and merges). bpt − vs vcm shows what merging costs.
-void VcmIteration(benchmark::State& state, const char* mode) {
+void VcmIteration(benchmark::State& state, const char* settings) {
   static SceneFile sf = test::loadShippedScene("cornell-box-spheres", 128, 128);
-  Params params(YAML::Load(std::string("{mode: ") + mode + "}"), "", "integrator");
+  Params params(YAML::Load(settings), "", "integrator");
   Vcm vcm(VcmSettings::read(params));
   Film film(128, 128);
   auto sampler = makeSampler(sf.sampler, 1);
@@ -222,10 +222,14 @@ void VcmIteration(benchmark::State& state, const char* mode) {
   state.counters["index ms"] = 1e3 * t.index / n;
   state.counters["camera ms"] = 1e3 * t.cameraSubpaths / n;
 }
-BENCHMARK_CAPTURE(VcmIteration, vcm, "vcm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpm, "bpm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, ppm, "ppm")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpt, "bpt")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+// Modes with the default lookup (FLANN), then the merging modes with the grid.
+BENCHMARK_CAPTURE(VcmIteration, vcm, "{mode: vcm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpm, "{mode: bpm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, ppm, "{mode: ppm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpt, "{mode: bpt}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, vcm_grid, "{mode: vcm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpm_grid, "{mode: bpm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, ppm_grid, "{mode: ppm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
