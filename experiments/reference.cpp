@@ -197,7 +197,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   if (budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
     std::cerr << "reference: " << cache.mean.string() << " (cached: " << acc.chunks << " chunks of " << spec.chunkSpp
               << " spp, noise floor " << std::sqrt(acc.varianceOfMean()) << ")\n";
-    return {acc.meanImage(), acc.varianceOfMean()};
+    return {acc.meanImage(), acc.varianceOfMean(), acc.chunks > 1 ? acc.varianceOfMeanImage() : Image()};
   }
 
   std::cerr << "reference: " << (acc.chunks ? "extending " : "rendering ") << referenceName(s) << " with '"
@@ -240,7 +240,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
            << " s more";
     std::cerr << line.str() << "\n";
   }
-  return {acc.meanImage(), acc.varianceOfMean()};
+  return {acc.meanImage(), acc.varianceOfMean(), acc.chunks > 1 ? acc.varianceOfMeanImage() : Image()};
 }
 
 }  // namespace lb

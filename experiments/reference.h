@@ -27,6 +27,8 @@ struct Reference {
   // (NaN for a given EXR). Every measured MSE includes it, so sqrt of it is
   // the RMSE floor below which no configuration can be seen to improve.
   double varianceOfMean = NAN;
+  // Per pixel and channel (empty for a given EXR, or a single chunk).
+  Image variance;
 };
 // Loads or renders (and caches under `key`, the scene's referenceKey) the
 // reference; reports what it did on stderr.

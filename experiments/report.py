@@ -226,6 +226,12 @@ def write_report(run_dir, grouped, plots, meta):
         "1e-4 (dark blue) to 10 (yellow).</p>",
     ]
     scenes_meta = {s["name"]: s for s in meta.get("scenes", [])}
+    decomposition = {}
+    decomposition_csv = os.path.join(run_dir, "decomposition.csv")
+    if os.path.exists(decomposition_csv):
+        with open(decomposition_csv, newline="") as f:
+            for r in csv.DictReader(f):
+                decomposition.setdefault(r["scene"], []).append(r)
     for scene, labels in grouped.items():
         table, best = summary(labels)
         parts.append(f"<h2>{html.escape(scene)}</h2>")
@@ -278,6 +284,23 @@ def write_report(run_dir, grouped, plots, meta):
                 + (f"<td>{t['over_budget']:.3g}</td>" if over else "") + "</tr>"
             )
         parts.append("</table>")
+        rows = decomposition.get(scene, [])
+        if rows:
+            # experiments/decomposition.h: MSE = bias² + variance + reference variance, in expectation.
+            parts.append(
+                "<p>Final MSE split over the repeats: <i>variance</i> is one run's noise (the spread of the "
+                "repeats), <i>bias²</i> the squared error of their mean less its expected noise and the "
+                "reference's variance; 95 % intervals (8×8-pixel tiles as batch means, conservative). "
+                "An interval that excludes 0 shows a bias.</p>"
+                "<table><tr><th>configuration</th><th>MSE</th><th>bias² [95 %]</th><th>variance [95 %]</th>"
+                "<th>reference variance</th><th>repeats</th></tr>")
+            for r in rows:
+                parts.append(
+                    f"<tr><td>{html.escape(r['label'])}</td><td>{float(r['mse']):.3g}</td>"
+                    f"<td>{float(r['bias2']):.3g} [{float(r['bias2_low']):.2g}, {float(r['bias2_high']):.2g}]</td>"
+                    f"<td>{float(r['variance']):.3g} [{float(r['variance_low']):.2g}, {float(r['variance_high']):.2g}]</td>"
+                    f"<td>{float(r['reference_variance']):.3g}</td><td>{r['repeats']}</td></tr>")
+            parts.append("</table>")
         crop = scenes_meta.get(scene, {}).get("crop")
         for suffix, title in (("", "Full frame"), ("_crop", "Crop (×4)")):
             if suffix and not crop:

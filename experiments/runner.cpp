@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 #include "core/scene_loader.h"
+#include "experiments/decomposition.h"
 #include "experiments/meta.h"
 #include "experiments/reference.h"
 #include "experiments/run_lock.h"
@@ -166,6 +167,34 @@ fs::path createRunDir(const Experiment& e, const RunnerOptions& o) {
   return dir;
 }
 
+// Repeat 0's image is <stem>.exr (shown in the report), repeat r's <stem>__repeat<r>.exr.
+std::string repeatImagePath(const std::string& stem, int repeat) {
+  return repeat == 0 ? stem + ".exr" : stem + "__repeat" + std::to_string(repeat) + ".exr";
+}
+
+// decomposition.csv: each configuration's final MSE split into bias² and
+// variance over its repeats, with 95 % intervals (experiments/decomposition.h).
+// Read back from the run folder, so a resumed run includes the earlier runs.
+void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::vector<Image>& references,
+                        const std::vector<Image>& referenceVariances) {
+  std::ostringstream csv;
+  csv << "scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,variance_high,"
+         "reference_variance\n";
+  for (size_t si = 0; si < e.scenes.size(); ++si)
+    for (const auto& c : e.configurations) {
+      std::string stem = (runDir / (e.scenes[si].name + "__" + slug(c.label))).string();
+      std::vector<Image> finals;
+      for (int r = 0; r < e.repeats; ++r) finals.push_back(readExr(repeatImagePath(stem, r)));
+      ErrorDecomposition d = decomposeError(finals, references[si], referenceVariances[si]);
+      csv << csvField(e.scenes[si].name) << "," << csvField(c.label) << "," << c.integrator << "," << d.repeats;
+      for (double v : {d.mse, d.bias2, d.bias2Low, d.bias2High, d.variance, d.varianceLow, d.varianceHigh,
+                       d.referenceVariance})
+        csv << "," << fmt(v);
+      csv << "\n";
+    }
+  writeTextFile((runDir / "decomposition.csv").string(), csv.str());
+}
+
 }  // namespace
 
 std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
@@ -200,7 +229,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
 
   // References (rendered with every core) before the run folder exists: a
   // reference that fails leaves no half-started run.
-  std::vector<Image> references;
+  std::vector<Image> references, referenceVariances;
   std::vector<double> referenceFloors;
   for (size_t si = 0; si < e.scenes.size(); ++si) {
     const ExperimentScene& s = e.scenes[si];
@@ -218,6 +247,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                                 std::to_string(obtained.image.height) + ", the scene renders " +
                                 std::to_string(camera.width()) + "×" + std::to_string(camera.height()));
     references.push_back(std::move(obtained.image));
+    referenceVariances.push_back(std::move(obtained.variance));
     referenceFloors.push_back(std::sqrt(obtained.varianceOfMean));
   }
   std::vector<SceneFile>& scenes = checked.scenes;
@@ -323,8 +353,10 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     RenderReport rep = renderLoop(scene, *integrator, film, scenes[t.scene].sampler, ro, afterPass);
     // Images first, the final row last: a run counts as finished (for
     // --resume) only once everything it produces is on disk.
+    std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
+    // Every repeat's final image, for the bias²/variance split over repeats.
+    if (t.repeat > 0) writeExr(repeatImagePath(stem, t.repeat), film.image());
     if (t.repeat == 0) {
-      std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
       Image img = film.image();
       writeExr(stem + ".exr", img);
       writePng(stem + ".png", img);
@@ -363,6 +395,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   if (failure) std::rethrow_exception(failure);
   discard.keep = true;
 
+  if (e.repeats > 1) writeDecomposition(e, runDir, references, referenceVariances);
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";
   if (o.report) {

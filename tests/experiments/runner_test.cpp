@@ -134,8 +134,18 @@ TEST_F(Runner, WritesLogImagesPlotsAndReport) {
 
   for (const char* f : {"meta.json", "rmse_vs_time.png", "scene__rmse_vs_time.svg", "scene__rmse_vs_spp.png",
                         "scene__efficiency.png", "scene__reference.png", "scene__mis.exr", "scene__mis_error.png",
-                        "scene__bsdf_crop.png", "report.html"})
+                        "scene__bsdf_crop.png", "report.html", "scene__mis__repeat1.exr", "decomposition.csv"})
     EXPECT_TRUE(fs::exists(run / f)) << f;
+  // Two repeats: each configuration's final MSE split into bias² and variance
+  // (experiments/decomposition.h), one row per configuration, shown in the report.
+  CsvTable split = readCsv(run / "decomposition.csv");
+  ASSERT_EQ(split.rows.size(), 2u);
+  for (const auto& row : split.rows) {
+    EXPECT_EQ(row.at("repeats"), "2");
+    EXPECT_LE(std::stod(row.at("bias2_low")), std::stod(row.at("bias2")));
+    EXPECT_GT(std::stod(row.at("variance")), 0);
+  }
+  EXPECT_NE(readFile(run / "report.html").find("Final MSE split over the repeats"), std::string::npos);
   // The report embeds its images: every <img> is a data URI, and every
   // configuration appears with its image and error image.
   std::string report = readFile(run / "report.html");
