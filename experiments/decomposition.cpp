@@ -16,18 +16,17 @@ void weightedMean(const std::vector<Tile>& tiles, double Tile::*field, double* m
   double n = 0, sum = 0;
   for (const auto& t : tiles) n += t.count, sum += t.*field;
   *mean = sum / n;
-  // Batch means: each tile's mean, weighted by its share of the pixels.
-  double var = 0, weights2 = 0;
+  // Batch means: each tile's mean x_i, weighted by its share w_i of the
+  // pixels (edge tiles are smaller). The ratio estimator's variance,
+  // k/(k−1) Σ w_i² (x_i − mean)², reduces to s²/k for equal tiles.
+  double var = 0, k = 0;
   for (const auto& t : tiles) {
     if (t.count == 0) continue;
     double w = t.count / n, d = t.*field / t.count - *mean;
-    var += w * d * d;
-    weights2 += w * w;
+    var += w * w * d * d;
+    k += 1;
   }
-  double k = 0;
-  for (const auto& t : tiles) k += t.count > 0;
-  // Variance of a weighted mean of k batches with (estimated) common variance.
-  double se = k > 1 ? std::sqrt(var * k / (k - 1) * weights2) : INFINITY;
+  double se = k > 1 ? std::sqrt(var * k / (k - 1)) : INFINITY;
   *low = *mean - 1.96 * se;
   *high = *mean + 1.96 * se;
 }
@@ -72,6 +71,7 @@ ErrorDecomposition decomposeError(const std::vector<Image>& finals, const Image&
   weightedMean(tiles, &Tile::referenceVariance, &d.referenceVariance, &low, &high);
   weightedMean(tiles, &Tile::bias2, &d.bias2, &d.bias2Low, &d.bias2High);
   weightedMean(tiles, &Tile::variance, &d.variance, &d.varianceLow, &d.varianceHigh);
+  if (!knownReference) d.referenceVariance = NAN;  // and bias² includes it
   return d;
 }
 

@@ -22,7 +22,9 @@ struct ErrorDecomposition {
   double mse = 0;  // mean over repeats of each run's MSE
   double bias2 = 0, bias2Low = 0, bias2High = 0;
   double variance = 0, varianceLow = 0, varianceHigh = 0;
-  double referenceVariance = 0;  // the reference's mean variance of the mean (0 if unknown)
+  // The reference's mean variance of the mean; NaN if unknown (a given EXR,
+  // a one-chunk reference), and then bias² includes it: an upper bound.
+  double referenceVariance = 0;
 };
 
 // `finals`: each repeat's final image (two at least); `referenceVariance`:

@@ -67,7 +67,10 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
   ReferenceSpec r;
   *at = locate(p, "reference");
   auto ref = p.getChild("reference");
-  if (!ref) return r;
+  if (!ref) {
+    if (options.quick) r.spp /= 4;
+    return r;
+  }
   if (ref->has("file")) {
     *at = locate(*ref, "file");
     r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
@@ -113,8 +116,11 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
     if (chunk < 1 || chunk > 1 << 20) ref->fail("chunk_spp", "must be between 1 and 1048576");
     r.chunkSpp = uint64_t(chunk);
     // A sample budget makes two chunks at least (their spread is the
-    // variance), unless it is a single sample.
-    if (r.spp > 0) r.chunkSpp = std::min<uint64_t>(r.chunkSpp, std::max<uint64_t>(1, r.spp / 2));
+    // variance), unless it is a single sample. From the spp as written, not
+    // as --quick quarters it: the chunk size is in the cache key, and a quick
+    // run should find (and extend) the full run's chunks.
+    if (ref->has("spp"))
+      r.chunkSpp = std::min<uint64_t>(r.chunkSpp, std::max<uint64_t>(1, uint64_t(ref->getInt("spp", 1)) / 2));
     r.seed = uint64_t(ref->getInt("seed", int(r.seed)));
   }
   ref->checkUnused();

@@ -93,6 +93,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
       << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + flowYaml(s.reference.params) + " " +
                                                    referenceBudget(s.reference)
                                              : "file")
+      << ", \"reference_used\": " << jsonString(m.referenceUsed.count(s.name) ? m.referenceUsed.at(s.name) : "")
       << ", \"reference_rmse_floor\": "
       << (m.referenceRmseFloor.count(s.name) && std::isfinite(m.referenceRmseFloor.at(s.name))
               ? number(m.referenceRmseFloor.at(s.name))

@@ -11,6 +11,7 @@ struct RunMeta {
   std::string started;
   int threadsPerRun = 0, jobs = 1;
   std::map<std::string, std::string> referenceKeys;
+  std::map<std::string, std::string> referenceUsed;  // the reference as used: chunks, spp, seconds
   std::map<std::string, double> referenceRmseFloor;  // sqrt of the reference's mean variance
   std::string experimentHash;  // what --resume checks: the same experiment, budget and references
 };

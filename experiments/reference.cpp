@@ -2,9 +2,11 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include "core/scene_loader.h"
+#include "experiments/run_lock.h"
 #include "render_source_hash.h"
 #include "integrators/registry.h"
 
@@ -139,8 +141,10 @@ uint64_t chunkSeed(uint64_t seed, uint64_t k) {
 }
 
 // Fewest chunks before a noise floor is trusted: the variance across chunks
-// has chunks − 1 degrees of freedom per pixel.
-constexpr uint64_t MinChunksForFloor = 4;
+// has chunks − 1 degrees of freedom per pixel, and a caustic's noise is
+// heavy-tailed (a few pixels hold most of it), so a handful of chunks
+// underestimates it too often.
+constexpr uint64_t MinChunksForFloor = 16;
 
 bool budgetMet(const ReferenceSpec& r, uint64_t chunks, double seconds, double varianceOfMean) {
   if (r.spp > 0) return chunks * r.chunkSpp >= r.spp;  // 1 spp: one chunk, no variance
@@ -162,7 +166,10 @@ std::string fileHash(const std::filesystem::path& a, const std::filesystem::path
 Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot, const std::string& key) {
   if (!s.reference.file.empty()) {
     std::cerr << "reference: " << s.reference.file << " (given)\n";
-    return {readExr(s.reference.file)};
+    Reference r;
+    r.image = readExr(s.reference.file);
+    r.description = "file " + s.reference.file;
+    return r;
   }
   const ReferenceSpec& spec = s.reference;
   std::filesystem::path dir = std::filesystem::path(resultsRoot) / "references";
@@ -171,42 +178,69 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   CachePaths cache{dir / (stem + ".exr"), dir / (stem + ".variance.exr"), dir / (stem + ".yaml")};
 
   SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s));
-  int width = sf.scene->camera.width(), height = sf.scene->camera.height();
+  const int width = sf.scene->camera.width(), height = sf.scene->camera.height();
   ChunkAccumulator acc(width, height);
   double seconds = 0;
   uint64_t nonFinite = 0;
-  if (std::filesystem::exists(cache.sidecar) && std::filesystem::exists(cache.mean) &&
-      std::filesystem::exists(cache.variance)) {
+  // The cache as last saved, if its files agree with each other: the sidecar
+  // names the hash of the two images (checked before they are read) and the
+  // chunk count. False when absent or inconsistent.
+  auto loadCache = [&]() {
+    acc = ChunkAccumulator(width, height), seconds = 0, nonFinite = 0;
+    if (!std::filesystem::exists(cache.sidecar) || !std::filesystem::exists(cache.mean) ||
+        !std::filesystem::exists(cache.variance))
+      return false;
     // The sidecar is ours, but a user may have edited or truncated it.
     Params info(loadYamlFile(cache.sidecar.string()), cache.sidecar.string(), "");
     uint64_t chunks = uint64_t(info.getInt("chunks", 0));
     double cachedSeconds = info.getFloat("seconds", 0);
     std::string hash = info.getString("files_hash", "");
     if (info.has("variance_of_mean")) info.getFloat("variance_of_mean", 0);
+    if (chunks < 1 || hash != fileHash(cache.mean, cache.variance)) return false;
     Image mean = readExr(cache.mean.string()), variance = readExr(cache.variance.string());
-    if (chunks >= 1 && hash == fileHash(cache.mean, cache.variance) && mean.width == width && mean.height == height &&
-        variance.width == width && variance.height == height) {
-      acc.restore(mean, variance, chunks);
-      seconds = cachedSeconds;
-      nonFinite = uint64_t(info.getInt("non_finite_samples", 0));
-    } else {
-      std::cerr << "reference: " << cache.mean.string() << " does not match its sidecar (an interrupted write or an "
-                << "edit); rendering it anew\n";
-    }
-  }
-  if (budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
-    std::cerr << "reference: " << cache.mean.string() << " (cached: " << acc.chunks << " chunks of " << spec.chunkSpp
-              << " spp, noise floor " << std::sqrt(acc.varianceOfMean()) << ")\n";
-    return {acc.meanImage(), acc.varianceOfMean(), acc.chunks > 1 ? acc.varianceOfMeanImage() : Image()};
-  }
+    if (mean.width != width || mean.height != height || variance.width != width || variance.height != height)
+      return false;
+    acc.restore(mean, variance, chunks);
+    seconds = cachedSeconds;
+    nonFinite = uint64_t(info.getInt("non_finite_samples", 0));
+    return true;
+  };
+  auto result = [&](const char* how) {
+    Reference r;
+    r.image = acc.meanImage();
+    r.varianceOfMean = acc.varianceOfMean();
+    if (acc.chunks > 1) r.variance = acc.varianceOfMeanImage();
+    std::ostringstream d;
+    d << spec.integrator << " " << flowYaml(spec.params) << ", " << acc.chunks << " chunks of " << spec.chunkSpp
+      << " spp (" << acc.chunks * spec.chunkSpp << " spp), " << std::lround(seconds) << " s, " << how;
+    r.description = d.str();
+    std::cerr << "reference: " << cache.mean.string() << " (" << d.str() << ", noise floor "
+              << std::sqrt(r.varianceOfMean) << ")\n";
+    return r;
+  };
+  if (loadCache() && budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) return result("cached");
 
+  // Rendering: one process at a time per references folder (three shipped
+  // experiments share the glass sphere's), and the cache read again once
+  // the lock is held, since another process may have just extended it.
+  RunLock lock(dir.string(), s.path, "references folder");
+  bool cached = loadCache();
+  if (cached && budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) return result("cached");
+  if (!cached && std::filesystem::exists(cache.sidecar))
+    std::cerr << "reference: " << cache.mean.string() << " does not match its sidecar (an interrupted write, an "
+              << "edit or another size); rendering it anew\n";
   std::cerr << "reference: " << (acc.chunks ? "extending " : "rendering ") << referenceName(s) << " with '"
             << spec.integrator << "' to " << referenceBudget(spec) << " in chunks of " << spec.chunkSpp
             << " spp (cached as " << cache.mean.string() << "; an interrupted render keeps its finished chunks)\n";
-  Params params(spec.params, s.path, "reference.params");
-  auto integrator = makeIntegrator(spec.integrator, params);
   if (acc.chunks == 0) seconds = sf.scene->buildSeconds();
   while (!budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
+    // A new integrator per chunk: chunks are independent renders (a
+    // progressive integrator's state would otherwise carry over). For a
+    // consistent one (allowed with allow_biased_reference) each chunk is its
+    // own chunk_spp-pass render, so its bias is that of chunk_spp passes,
+    // however many chunks are averaged.
+    Params params(spec.params, s.path, "reference.params");
+    auto integrator = makeIntegrator(spec.integrator, params);
     Film film(width, height);
     RenderOptions options;
     options.seed = chunkSeed(spec.seed, acc.chunks);
@@ -221,26 +255,31 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     writeExr(cache.mean.string(), acc.meanImage());
     writeExr(cache.variance.string(), acc.varianceOfMeanImage());
     double v = acc.varianceOfMean();
-    std::ostringstream info;
-    info << "scene: " << referenceScene(s) << "\nintegrator: " << spec.integrator
-         << "\nparams: " << flowYaml(spec.params) << "\nchunk_spp: " << spec.chunkSpp << "\nchunks: " << acc.chunks
-         << "\nspp: " << acc.chunks * spec.chunkSpp << "\nseed: " << spec.seed << "\nseconds: " << seconds
-         << "\nnon_finite_samples: " << nonFinite;
-    if (std::isfinite(v)) info << "\nvariance_of_mean: " << v << "\nnoise_floor: " << std::sqrt(v);
-    info << "\nfiles_hash: " << fileHash(cache.mean, cache.variance) << "\nkey: " << key << "\n";
-    writeTextFile(cache.sidecar.string(), info.str());
+    YAML::Emitter info;  // an emitter: a scene path with ": " or "#" stays valid YAML
+    info << YAML::BeginMap << YAML::Key << "scene" << YAML::Value << referenceScene(s) << YAML::Key << "integrator"
+         << YAML::Value << spec.integrator << YAML::Key << "params" << YAML::Value << flowYaml(spec.params)
+         << YAML::Key << "chunk_spp" << YAML::Value << spec.chunkSpp << YAML::Key << "chunks" << YAML::Value
+         << acc.chunks << YAML::Key << "spp" << YAML::Value << acc.chunks * spec.chunkSpp << YAML::Key << "seed"
+         << YAML::Value << spec.seed << YAML::Key << "seconds" << YAML::Value << seconds << YAML::Key
+         << "non_finite_samples" << YAML::Value << nonFinite;
+    if (std::isfinite(v))
+      info << YAML::Key << "variance_of_mean" << YAML::Value << v << YAML::Key << "noise_floor" << YAML::Value
+           << std::sqrt(v);
+    info << YAML::Key << "files_hash" << YAML::Value << fileHash(cache.mean, cache.variance) << YAML::Key << "key"
+         << YAML::Value << key << YAML::EndMap;
+    writeTextFile(cache.sidecar.string(), std::string(info.c_str()) + "\n");
 
     std::ostringstream line;
     line << "reference " << referenceName(s) << ": chunk " << acc.chunks << " (" << acc.chunks * spec.chunkSpp
-         << " spp, " << int(seconds) << " s)";
+         << " spp, " << std::lround(seconds) << " s)";
     if (acc.chunks >= 2) line << ", noise floor " << std::sqrt(v);
     if (spec.noiseFloor > 0 && acc.chunks >= 2 && std::sqrt(v) > spec.noiseFloor)
       // The floor falls as 1/sqrt(time): about (floor/target)² times the time so far.
-      line << " → " << spec.noiseFloor << ", about " << int(seconds * (v / (spec.noiseFloor * spec.noiseFloor) - 1))
-           << " s more";
+      line << " → " << spec.noiseFloor << ", about " << std::setprecision(3)
+           << seconds * (v / (double(spec.noiseFloor) * spec.noiseFloor) - 1) << " s more";
     std::cerr << line.str() << "\n";
   }
-  return {acc.meanImage(), acc.varianceOfMean(), acc.chunks > 1 ? acc.varianceOfMeanImage() : Image()};
+  return result("rendered");
 }
 
 }  // namespace lb

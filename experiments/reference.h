@@ -29,6 +29,8 @@ struct Reference {
   double varianceOfMean = NAN;
   // Per pixel and channel (empty for a given EXR, or a single chunk).
   Image variance;
+  // What was used: integrator, chunks, samples, seconds (for meta.json).
+  std::string description;
 };
 // Loads or renders (and caches under `key`, the scene's referenceKey) the
 // reference; reports what it did on stderr.

@@ -24,6 +24,8 @@ import shutil
 import sys
 from collections import defaultdict
 
+from verdict import NO_VERDICT_FACTOR  # noqa: E402 (this script's folder is on sys.path)
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -189,9 +191,6 @@ def summary(labels):
     return table, best_label
 
 
-# A configuration whose final RMSE is below this many reference noise floors
-# is not ranked: the reference's own error could account for the difference.
-NO_VERDICT_FACTOR = 3
 
 
 def data_uri(path):
@@ -295,11 +294,13 @@ def write_report(run_dir, grouped, plots, meta):
                 "<table><tr><th>configuration</th><th>MSE</th><th>bias² [95 %]</th><th>variance [95 %]</th>"
                 "<th>reference variance</th><th>repeats</th></tr>")
             for r in rows:
+                # An unknown reference variance (a given EXR): bias² includes it, an upper bound.
+                ref_var = f"{float(r['reference_variance']):.3g}" if r["reference_variance"] else "unknown (in bias²)"
                 parts.append(
                     f"<tr><td>{html.escape(r['label'])}</td><td>{float(r['mse']):.3g}</td>"
                     f"<td>{float(r['bias2']):.3g} [{float(r['bias2_low']):.2g}, {float(r['bias2_high']):.2g}]</td>"
                     f"<td>{float(r['variance']):.3g} [{float(r['variance_low']):.2g}, {float(r['variance_high']):.2g}]</td>"
-                    f"<td>{float(r['reference_variance']):.3g}</td><td>{r['repeats']}</td></tr>")
+                    f"<td>{ref_var}</td><td>{r['repeats']}</td></tr>")
             parts.append("</table>")
         crop = scenes_meta.get(scene, {}).get("crop")
         for suffix, title in (("", "Full frame"), ("_crop", "Crop (×4)")):

@@ -21,7 +21,7 @@ std::string holderPid(int fd) {
 }
 }  // namespace
 
-RunLock::RunLock(const std::string& runDir, const std::string& experimentFile) {
+RunLock::RunLock(const std::string& runDir, const std::string& experimentFile, const std::string& what) {
   std::string path = (std::filesystem::path(runDir) / FileName).string();
   // O_CLOEXEC: the report script run at the end must not inherit (and so
   // prolong) the lock.
@@ -33,7 +33,7 @@ RunLock::RunLock(const std::string& runDir, const std::string& experimentFile) {
     ::close(fd_);
     if (err == EWOULDBLOCK)
       throw ConfigError(experimentFile, 0, "",
-                        "run folder " + runDir + " is in use by another lightbench process" +
+                        what + " " + runDir + " is in use by another lightbench process" +
                             (pid.empty() ? std::string() : " (pid " + pid + ")"));
     throw std::runtime_error("cannot lock " + path + ": " + std::strerror(err));
   }

@@ -14,7 +14,8 @@ class RunLock {
   static constexpr const char* FileName = ".lightbench.lock";
   // Takes the lock or throws a ConfigError (at `experimentFile`) naming the
   // process that holds it; the folder is left as it was.
-  RunLock(const std::string& runDir, const std::string& experimentFile);
+  // `what` names the folder in that message (the references cache uses it too).
+  RunLock(const std::string& runDir, const std::string& experimentFile, const std::string& what = "run folder");
   ~RunLock();
   RunLock(const RunLock&) = delete;
   RunLock& operator=(const RunLock&) = delete;

@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -183,13 +184,23 @@ void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::
   for (size_t si = 0; si < e.scenes.size(); ++si)
     for (const auto& c : e.configurations) {
       std::string stem = (runDir / (e.scenes[si].name + "__" + slug(c.label))).string();
+      // The repeats whose images are there: a run resumed from a folder that
+      // a version without them started has fewer. Never fails the run.
       std::vector<Image> finals;
-      for (int r = 0; r < e.repeats; ++r) finals.push_back(readExr(repeatImagePath(stem, r)));
+      for (int r = 0; r < e.repeats; ++r)
+        if (fs::exists(repeatImagePath(stem, r))) finals.push_back(readExr(repeatImagePath(stem, r)));
+      if (finals.size() < 2) {
+        std::cerr << "warning: " << e.scenes[si].name << " / " << c.label << ": " << finals.size()
+                  << " final image(s) of its repeats in the run folder; no bias²/variance split\n";
+        continue;
+      }
       ErrorDecomposition d = decomposeError(finals, references[si], referenceVariances[si]);
       csv << csvField(e.scenes[si].name) << "," << csvField(c.label) << "," << c.integrator << "," << d.repeats;
+      // An unknown reference variance (a given EXR) is an empty field: bias²
+      // then includes it (the report says so).
       for (double v : {d.mse, d.bias2, d.bias2Low, d.bias2High, d.variance, d.varianceLow, d.varianceHigh,
                        d.referenceVariance})
-        csv << "," << fmt(v);
+        csv << "," << (std::isfinite(v) ? fmt(v) : "");
       csv << "\n";
     }
   writeTextFile((runDir / "decomposition.csv").string(), csv.str());
@@ -231,6 +242,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   // reference that fails leaves no half-started run.
   std::vector<Image> references, referenceVariances;
   std::vector<double> referenceFloors;
+  std::vector<std::string> referenceDescriptions;
   for (size_t si = 0; si < e.scenes.size(); ++si) {
     const ExperimentScene& s = e.scenes[si];
     Reference obtained;
@@ -241,13 +253,14 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
     }
     const Camera& camera = checked.scenes[si].scene->camera;
-    // A cached file replaced by hand is the only way left to get here.
+    // A given EXR of another size is refused before this; a safety net.
     if (obtained.image.width != camera.width() || obtained.image.height != camera.height())
       throw s.referenceAt.error("reference of " + s.name + " is " + std::to_string(obtained.image.width) + "×" +
                                 std::to_string(obtained.image.height) + ", the scene renders " +
                                 std::to_string(camera.width()) + "×" + std::to_string(camera.height()));
     references.push_back(std::move(obtained.image));
     referenceVariances.push_back(std::move(obtained.variance));
+    referenceDescriptions.push_back(obtained.description.empty() ? "file " + s.reference.file : obtained.description);
     referenceFloors.push_back(std::sqrt(obtained.varianceOfMean));
   }
   std::vector<SceneFile>& scenes = checked.scenes;
@@ -283,6 +296,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     const ExperimentScene& s = e.scenes[si];
     meta.referenceRmseFloor[s.name] = referenceFloors[si];
     meta.referenceKeys[s.name] = referenceIds[si];
+    meta.referenceUsed[s.name] = referenceDescriptions[si];
     writePng((runDir / (s.name + "__reference.png")).string(), references[si]);
     if (!s.crop.empty())
       writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(references[si], s.crop, 4));

@@ -2,6 +2,7 @@
 // on synthetic images whose bias, noise and reference noise are known.
 #include "experiments/decomposition.h"
 #include <gtest/gtest.h>
+#include <cmath>
 #include <random>
 
 namespace lb {
@@ -68,6 +69,15 @@ TEST(ErrorDecomposition, AnUnbiasedMethodHasNoBias) {
   EXPECT_LE(d.bias2Low, 0.0);
   EXPECT_GE(d.bias2High, 0.0);
   EXPECT_LT(d.bias2High - d.bias2Low, 0.05 * d.mse);
+}
+
+// Against a given EXR the reference's variance is unknown: it is reported as
+// such (NaN) and bias² includes it.
+TEST(ErrorDecomposition, AnUnknownReferenceVarianceIsInBias) {
+  Synthetic s = synthetic(3, 0.03, 0.1, 0.05, 9);
+  ErrorDecomposition d = decomposeError(s.finals, s.reference, Image());
+  EXPECT_TRUE(std::isnan(d.referenceVariance));
+  expectWithin(d.bias2, d.bias2Low, d.bias2High, 0.03 * 0.03 + 0.05 * 0.05, "bias² with the reference's variance");
 }
 
 TEST(ErrorDecomposition, NeedsTwoRepeats) {

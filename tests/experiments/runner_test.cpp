@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -138,12 +139,18 @@ TEST_F(Runner, WritesLogImagesPlotsAndReport) {
     EXPECT_TRUE(fs::exists(run / f)) << f;
   // Two repeats: each configuration's final MSE split into bias² and variance
   // (experiments/decomposition.h), one row per configuration, shown in the report.
+  // Its MSE is the mean over repeats of each run's final RMSE² in log.csv
+  // (the same images, read back from their EXRs).
   CsvTable split = readCsv(run / "decomposition.csv");
   ASSERT_EQ(split.rows.size(), 2u);
   for (const auto& row : split.rows) {
     EXPECT_EQ(row.at("repeats"), "2");
-    EXPECT_LE(std::stod(row.at("bias2_low")), std::stod(row.at("bias2")));
+    double mse = 0;
+    for (const auto& r : log.rows)
+      if (r.at("label") == row.at("label") && r.at("final") == "1") mse += std::pow(std::stod(r.at("rmse")), 2) / 2;
+    EXPECT_NEAR(std::stod(row.at("mse")), mse, 1e-6 * mse) << row.at("label");
     EXPECT_GT(std::stod(row.at("variance")), 0);
+    EXPECT_FALSE(row.at("reference_variance").empty()) << "a rendered reference's variance is known";
   }
   EXPECT_NE(readFile(run / "report.html").find("Final MSE split over the repeats"), std::string::npos);
   // The report embeds its images: every <img> is a data URI, and every

@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::filesystem::path path = experimentPath();
   lbfuzz::writeFile(path, data, size);
   try {
-    // Alternate --quick on and off (it changes budgets and reference spp).
+    // Alternate --quick on and off (it changes budgets and reference budgets).
     lb::ExperimentOptions options;
     options.quick = size % 2 == 1;
     lb::Experiment e = lb::loadExperiment(path.string(), options);

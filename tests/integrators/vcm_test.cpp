@@ -82,6 +82,9 @@ TEST(Vcm, EveryModeIsBitIdenticalWithOneAndTwoThreads) {
 // missed or found twice by either would show). A radius large enough that
 // most camera vertices merge with several light vertices.
 TEST(Vcm, GridAndFlannLookupsMergeTheSameLightVertices) {
+  Params grid(YAML::Load("{lookup: grid}"), "", ""), flann(YAML::Load("{lookup: flann}"), "", "");
+  ASSERT_TRUE(VcmSettings::read(grid).gridLookup) << "the two renders below must differ in their lookup";
+  ASSERT_FALSE(VcmSettings::read(flann).gridLookup);
   SceneFile sf = loadShippedScene("cornell-box-spheres", 32, 32);
   for (std::string mode : {"vcm", "bpm", "ppm"}) {
     std::string params = "{mode: " + mode + ", relative_radius: 0.05, lookup: ";
