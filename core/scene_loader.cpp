@@ -14,6 +14,7 @@
 #include "core/lights/point_light.h"
 #include "core/lights/spot_light.h"
 #include "core/mesh_io.h"
+#include "core/mitsuba/import.h"
 
 namespace lb {
 
@@ -27,10 +28,36 @@ struct LoadContext {
   size_t degenerateTriangles = 0;
 };
 
-// transform: {scale, rotate_x, rotate_y, rotate_z, translate}, applied in that order.
+// transform: {matrix: 16 numbers, row by row} (as Mitsuba writes it), or
+// {scale, rotate_x, rotate_y, rotate_z, translate}, applied in that order.
+Mat4 readMatrix(Params& t) {
+  const YAML::Node n = t.node()["matrix"];
+  t.has("matrix");
+  if (!n.IsSequence() || n.size() != 16) t.fail("matrix", "expected 16 numbers, row by row");
+  for (const char* other : {"scale", "rotate_x", "rotate_y", "rotate_z", "translate"})
+    if (t.has(other)) t.fail(other, "cannot be combined with matrix");
+  t.checkUnused();
+  Mat4 m(1.f);
+  for (int i = 0; i < 16; ++i) {
+    float v = 0;
+    try {
+      v = n[i].as<float>();
+    } catch (const YAML::Exception&) {
+      t.fail("matrix", "expected 16 numbers, row by row");
+    }
+    if (!std::isfinite(v)) t.fail("matrix", "must be finite");
+    m[i % 4][i / 4] = v;  // glm is column-major
+  }
+  if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+    t.fail("matrix", "the last row must be 0 0 0 1 (an affine transform)");
+  return m;
+}
+
 Mat4 readTransform(Params& shape, const LoadContext& ctx) {
   Mat4 m(1.f);
-  if (auto t = shape.getChild("transform")) {
+  if (auto t = shape.getChild("transform"); t && t->has("matrix")) {
+    m = readMatrix(*t);
+  } else if (t) {
     Vec3 scale(1.f);
     if (t->has("scale")) {
       const YAML::Node n = t->node()["scale"];
@@ -136,6 +163,11 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       mesh = type == "box" ? boxMesh() : rectangleMesh();
       dropped = transformMesh(mesh, toWorld);
     }
+    // The geometric normal follows the winding (core/shape.cpp).
+    if (p.getBool("flip_normals", false)) {
+      for (auto& t : mesh.triangles) std::swap(t.y, t.z);
+      for (Vec3& n : mesh.normals) n = -n;
+    }
     // An all-degenerate shape is an error (one line), not a warning and an error.
     if (mesh.triangles.empty()) {
       if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
@@ -204,6 +236,17 @@ void checkFilmMemory(Params& film, int width, int height) {
   if (!problem.empty()) film.fail(width >= height ? "width" : "height", problem + "; lower film.width/height");
 }
 
+// The vertical field of view of one given along `axis` (Mitsuba's fov_axis:
+// x, y, diagonal, or the smaller or larger image side), in degrees.
+float verticalFov(float fov, const std::string& axis, int width, int height) {
+  const double aspect = double(width) / height, t = std::tan(glm::radians(double(fov)) / 2);
+  std::string a = axis;
+  if (a == "smaller") a = aspect > 1 ? "y" : "x";
+  if (a == "larger") a = aspect > 1 ? "x" : "y";
+  double tanY = a == "y" ? t : a == "x" ? t / aspect : t / std::sqrt(1 + aspect * aspect);
+  return float(glm::degrees(2 * std::atan(tanY)));
+}
+
 void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   int width = 256, height = 256;
   if (auto film = root.getChild("film")) {
@@ -219,8 +262,10 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   Vec3 pos = cam->requireVec3("position"), target = cam->requireVec3("look_at");
   Vec3 up = cam->getVec3("up", Vec3(0, 1, 0));
   float fov = cam->getFloat("fov", 40);
+  std::string axis = cam->getChoice("fov_axis", "y", {"y", "x", "diagonal", "smaller", "larger"});
   cam->checkUnused();
   if (!(fov > 0 && fov < 180)) cam->fail("fov", "must be in (0, 180) degrees");
+  fov = verticalFov(fov, axis, width, height);
   if (pos == target) cam->fail("look_at", "must differ from position");
   if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
@@ -301,22 +346,79 @@ std::string worldScaleProblem(double s) {
   return msg;
 }
 
-SceneFile loadScene(const std::string& path) { return loadFromNode(loadYamlFile(path), path); }
+namespace {
 
-SceneFile loadScene(const std::string& path, const YAML::Node& overrides) {
-  YAML::Node root = loadYamlFile(path);
-  if (overrides && overrides.IsMap())
-    for (auto it = overrides.begin(); it != overrides.end(); ++it) {
-      std::string key = it->first.as<std::string>();
-      if (it->second.IsMap() && root[key] && root[key].IsMap()) {
-        YAML::Node merged = YAML::Clone(root[key]);
-        for (auto jt = it->second.begin(); jt != it->second.end(); ++jt) merged[jt->first.as<std::string>()] = jt->second;
-        root[key] = merged;
-      } else {
-        root[key] = it->second;
-      }
+void applyOverrides(YAML::Node& root, const YAML::Node& overrides) {
+  if (!overrides || !overrides.IsMap()) return;
+  for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+    std::string key = it->first.as<std::string>();
+    if (it->second.IsMap() && root[key] && root[key].IsMap()) {
+      // A fresh mapping of the same value nodes (YAML::Clone would reset their lines).
+      YAML::Node merged(YAML::NodeType::Map);
+      for (auto jt = root[key].begin(); jt != root[key].end(); ++jt) merged[jt->first] = jt->second;
+      for (auto jt = it->second.begin(); jt != it->second.end(); ++jt) merged[jt->first.as<std::string>()] = jt->second;
+      root[key] = merged;
+    } else {
+      root[key] = it->second;
     }
-  return loadFromNode(root, path);
+  }
+}
+
+// An imported scene: its warnings printed (or the first one an error under
+// --strict), and errors the YAML loader finds in the translation re-thrown
+// at the XML element they came from.
+SceneFile loadImported(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options) {
+  MitsubaImport imp = importMitsubaXml(path);
+  if (options.strict && !imp.warnings.empty()) {
+    const ImportWarning& w = imp.warnings.front();
+    throw ConfigError(path, w.line, w.element, w.message + " (--strict; " + std::to_string(imp.warnings.size()) +
+                                                   " unsupported item(s) in all)");
+  }
+  for (const ImportWarning& w : imp.warnings) warn(w.text(path));
+  YAML::Node description = YAML::Clone(imp.scene);
+  // Not a clone: cloned nodes claim line 1, and errors found in the
+  // translation must fall through to the XML lines below.
+  YAML::Node root = imp.scene;
+  applyOverrides(root, overrides);
+  SceneFile out;
+  try {
+    out = loadFromNode(root, path);
+  } catch (const ConfigError& e) {
+    if (e.line() > 0 || e.file() != path) throw;
+    std::pair<std::string, int> best{"", 0};
+    for (const auto& o : imp.origins) {
+      const std::string& k = e.key();
+      bool prefix = k.compare(0, o.first.size(), o.first) == 0 &&
+                    (k.size() == o.first.size() || k[o.first.size()] == '.' || k[o.first.size()] == '[');
+      if (prefix && o.first.size() > best.first.size()) best = o;
+    }
+    if (best.second == 0) throw;
+    std::string what = e.what(), prefix = path + ": ";
+    throw ConfigError(path, best.second, "", what.compare(0, prefix.size(), prefix) == 0 ? what.substr(prefix.size()) : what);
+  }
+  out.description = description;
+  out.sceneSpp = imp.sampleCount;
+  out.sharedIntegratorKeys = imp.sharedIntegratorKeys;
+  out.importWarnings = imp.warnings.size();
+  return out;
+}
+
+}  // namespace
+
+SceneFile loadScene(const std::string& path) { return loadScene(path, YAML::Node()); }
+
+SceneFile loadScene(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options) {
+  if (isMitsubaXmlPath(path)) return loadImported(path, overrides, options);
+  YAML::Node root = loadYamlFile(path);
+  YAML::Node description = YAML::Clone(root);
+  applyOverrides(root, overrides);
+  SceneFile out = loadFromNode(root, path);
+  out.description = description;
+  return out;
+}
+
+YAML::Node loadSceneDescription(const std::string& path) {
+  return isMitsubaXmlPath(path) ? importMitsubaXml(path).scene : loadYamlFile(path);
 }
 
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath) {

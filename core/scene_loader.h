@@ -1,9 +1,11 @@
 #pragma once
-// Reads a scene from YAML (format: README "Scene files"). Every key is checked:
-// unknown keys, wrong types, non-finite numbers and non-physical values are
-// ConfigErrors naming file, line and key.
+// Reads a scene from YAML (format: README "Scene files"), or from Mitsuba XML
+// (a path ending in .xml, translated by core/mitsuba/import.h into the same
+// description). Every key is checked: unknown keys, wrong types, non-finite
+// numbers and non-physical values are ConfigErrors naming file, line and key.
 #include <memory>
 #include <string>
+#include <vector>
 #include "core/sampler.h"
 #include "core/scene.h"
 
@@ -15,12 +17,25 @@ struct SceneFile {
   YAML::Node integrator;  // the scene's `integrator:` mapping (name + parameters), may be null
   SamplerSettings sampler;
   size_t degenerateTriangles = 0;
+  YAML::Node description;  // the scene as built, in lightbench's YAML (an XML scene's translation)
+  uint64_t sceneSpp = 0;   // samples per pixel the file asks for (Mitsuba's sample_count), 0 if none
+  // Integrator keys that define the integral (Mitsuba's max_depth): they apply
+  // to whichever integrator renders, not only to the one the file names.
+  std::vector<std::string> sharedIntegratorKeys;
+  size_t importWarnings = 0;
+};
+
+struct SceneLoadOptions {
+  bool strict = false;  // an unsupported element of an imported scene is an error, not a warning
 };
 
 SceneFile loadScene(const std::string& path);
 // The same with top-level keys replaced (e.g. `film: {width: 64, height: 64}`);
 // errors still name the scene file (lines of replaced keys are approximate).
-SceneFile loadScene(const std::string& path, const YAML::Node& overrides);
+SceneFile loadScene(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options = {});
+// The scene's description without building it (YAML as written, XML
+// translated): what a reference's key hashes.
+YAML::Node loadSceneDescription(const std::string& path);
 // For tests: the same from text; relative mesh paths resolve against `virtualPath`'s folder.
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath);
 // "" if a width x height film fits in the memory available, else why not

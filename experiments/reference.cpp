@@ -61,7 +61,7 @@ std::string referenceKey(const ExperimentScene& s) {
   f.add("lightbench-reference-v2 " LIGHTBENCH_RENDER_SOURCE_HASH);
   const std::string& scene = referenceScene(s);
   f.add(readBytes(scene));
-  YAML::Node root = loadYamlFile(scene);
+  YAML::Node root = loadSceneDescription(scene);
   std::string folder = std::filesystem::path(scene).parent_path().string();
   if (root["shapes"] && root["shapes"].IsSequence())
     for (const auto& shape : root["shapes"])

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake git
   libembree-dev libtbb-dev libflann-dev libopenexr-dev libglm-dev
-  libopenmesh-dev libyaml-cpp-dev libcli11-dev libpng-dev
+  libopenmesh-dev libyaml-cpp-dev libcli11-dev libpng-dev libpugixml-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/fuzz.sh

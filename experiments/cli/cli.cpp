@@ -34,7 +34,7 @@ int lightbenchMain(int argc, char** argv) {
 
   RenderArgs r;
   CLI::App* render = app.add_subcommand("render", "Render one scene to an EXR (plus a PNG preview and the resolved configuration).");
-  render->add_option("scene", r.scene, "Scene file (YAML)")->required();
+  render->add_option("scene", r.scene, "Scene file: YAML, or Mitsuba 0.5/0.6/3 XML (.xml)")->required();
   render->add_option("--integrator", r.integrator, "Integrator name (default: the scene's, else 'path'); see 'lightbench integrators'");
   render->add_option("--set", r.overrides, "Integrator parameter override key=value (repeatable), e.g. --set mis=balance");
   // Every value is checked as typed (flag_checks.h): 0, negative, NaN or
@@ -55,6 +55,7 @@ int lightbenchMain(int argc, char** argv) {
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)")
       ->check(intInRange(0, std::numeric_limits<long long>::max(), "sample index"));
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
+  render->add_flag("--strict", r.strict, "An imported (.xml) scene's unsupported elements are errors, not warnings");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
       ->check(positiveFinite(""));
 

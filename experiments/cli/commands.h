@@ -20,6 +20,7 @@ struct RenderArgs {
   long long replaySample = -1;
   bool quiet = false;
   double worldScale = 0;               // > 0: the scene scaled (camera, lights and radii too)
+  bool strict = false;                 // an imported scene's unsupported elements are errors
 };
 
 // Runs a command body: a ConfigError prints "error: file:line: key: ..." and

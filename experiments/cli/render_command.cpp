@@ -53,6 +53,10 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
   if (sf.integrator && c.name == sceneName)
     for (auto it = sf.integrator.begin(); it != sf.integrator.end(); ++it)
       if (it->first.as<std::string>() != "name") c.params[it->first.as<std::string>()] = it->second;
+  // Keys that define the integral (an imported scene's max_depth) hold for any integrator.
+  if (sf.integrator && c.name != sceneName)
+    for (const std::string& key : sf.sharedIntegratorKeys)
+      if (sf.integrator[key]) c.params[key] = sf.integrator[key];
   for (const std::string& kv : args.overrides) {
     auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -119,7 +123,9 @@ int render(const RenderArgs& args) {
     if (std::string problem = worldScaleProblem(args.worldScale); !problem.empty()) throw flagError("--world-scale", problem);
     sceneOverrides["world_scale"] = args.worldScale;
   }
-  SceneFile sf = loadScene(args.scene, sceneOverrides);
+  SceneLoadOptions loadOptions;
+  loadOptions.strict = args.strict;
+  SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
   IntegratorChoice choice = chooseIntegrator(sf, args);
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);
@@ -157,7 +163,7 @@ int render(const RenderArgs& args) {
   options.seed = args.seed;
   options.budget.spp = args.spp;
   options.budget.seconds = args.seconds;
-  if (options.budget.spp == 0 && options.budget.seconds == 0) options.budget.spp = 16;
+  if (options.budget.spp == 0 && options.budget.seconds == 0) options.budget.spp = sf.sceneSpp ? sf.sceneSpp : 16;
   options.progress = !args.quiet;
 
   Film film(cam.width(), cam.height());
@@ -166,7 +172,8 @@ int render(const RenderArgs& args) {
   YAML::Node resolved;
   resolved["lightbench"] = versionString();
   resolved["scene_file"] = args.scene;
-  resolved["scene"] = loadYamlFile(args.scene);
+  resolved["scene"] = sf.description;
+  if (sf.importWarnings) resolved["import_warnings"] = sf.importWarnings;
   YAML::Node integ = params.resolved();
   integ["name"] = choice.name;
   resolved["integrator"] = integ;
