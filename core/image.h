@@ -19,7 +19,8 @@ struct Image {
 
 void writeExr(const std::string& path, const Image& image);
 // R, G, B; or the one layer with R, G, B (color.R, …); or Y as grey. Other
-// channel sets are an error listing the channels found.
+// channel sets are an error listing the channels found. At most 8192 x 8192
+// pixels (a header claiming more is refused before anything is allocated).
 Image readExr(const std::string& path);
 // Tone mapping: multiply by 2^exposure, clamp, sRGB transfer curve.
 void writePng(const std::string& path, const Image& image, float exposure = 0);
