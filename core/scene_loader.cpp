@@ -151,10 +151,14 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
     if (type == "mesh") {
       std::string file = p.requireString("file");
       bool smooth = p.getBool("smooth_normals", false);
+      // Flat shading: the file's vertex normals are ignored (Mitsuba's face_normals).
+      bool faceNormals = p.getBool("face_normals", false);
+      if (smooth && faceNormals) p.fail("face_normals", "cannot be combined with smooth_normals");
       std::filesystem::path full = std::filesystem::path(ctx.folder) / file;
       try {
         MeshLoadResult r = loadMesh(full.string(), toWorld, smooth);
         mesh = std::move(r.mesh);
+        if (faceNormals) mesh.normals.clear();
         dropped = r.degenerateTriangles;
       } catch (const std::runtime_error& e) {
         p.fail("file", e.what());

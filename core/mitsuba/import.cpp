@@ -12,7 +12,8 @@
 #include <set>
 #include <sstream>
 #include "core/error.h"
-#include "core/mitsuba/xml_reader.h"
+#include "core/mitsuba/bsdfs.h"
+#include "core/mitsuba/translator.h"
 
 namespace lb {
 
@@ -31,8 +32,10 @@ namespace {
 
 // The largest scene file read (meshes live in files of their own).
 constexpr uintmax_t kMaxXmlBytes = uintmax_t(64) << 20;
-// What Mitsuba's unlimited path length becomes (always with a warning).
-constexpr long kUnlimitedDepth = 100;
+
+bool isElement(pugi::xml_node n) { return n.type() == pugi::node_element; }
+
+}  // namespace
 
 YAML::Node flowVec(const glm::dvec3& v) {
   YAML::Node n(YAML::NodeType::Sequence);
@@ -41,7 +44,6 @@ YAML::Node flowVec(const glm::dvec3& v) {
   return n;
 }
 
-// A 4x4 matrix as Mitsuba and lightbench's `transform: {matrix}` write it: row by row.
 YAML::Node rowMajor(const glm::dmat4& m) {
   YAML::Node n(YAML::NodeType::Sequence);
   n.SetStyle(YAML::EmitterStyle::Flow);
@@ -49,36 +51,6 @@ YAML::Node rowMajor(const glm::dmat4& m) {
     for (int col = 0; col < 4; ++col) n.push_back(m[col][row]);
   return n;
 }
-
-bool isElement(pugi::xml_node n) { return n.type() == pugi::node_element; }
-
-class Translator {
- public:
-  Translator(std::string text, const std::string& path) : xml_(text, path), text_(std::move(text)) {}
-  MitsubaImport run();
-
- private:
-  void readIntegrator(pugi::xml_node n);
-  void readSensor(pugi::xml_node n);
-  void readSampler(pugi::xml_node n);
-  void readFilm(pugi::xml_node n);
-  std::string readBsdf(pugi::xml_node n);
-  YAML::Node bsdfDescription(pugi::xml_node n, bool twoSided);
-  void readShape(pugi::xml_node n);
-  void readEmitter(pugi::xml_node n);
-  void registerId(pugi::xml_node n);
-  void origin(const std::string& key, pugi::xml_node n) { out_.origins.emplace_back(key, xml_.lineOf(n)); }
-
-  XmlContext xml_;
-  std::string text_;
-  MitsubaImport out_;
-  bool sensorSeen_ = false;
-  std::map<std::string, pugi::xml_node> ids_;        // every id: duplicates are errors, refs look up
-  std::map<std::string, std::string> bsdfMaterial_;  // bsdf id → material name
-  std::set<std::string> materialNames_;
-  YAML::Node root_{YAML::NodeType::Map}, materials_{YAML::NodeType::Map};
-  YAML::Node shapes_{YAML::NodeType::Sequence}, lights_{YAML::NodeType::Sequence};
-};
 
 MitsubaImport Translator::run() {
   pugi::xml_document doc;
@@ -114,7 +86,7 @@ MitsubaImport Translator::run() {
     else xml_.warn(c, "not supported; dropped");
   }
   if (!sensorSeen_) xml_.fail(scene, "sensor", "the scene has no <sensor type=\"perspective\">");
-  if (!root_["integrator"]) {
+  if (!integratorSeen_) {
     YAML::Node integ(YAML::NodeType::Map);
     integ["name"] = "path";
     integ["max_depth"] = kUnlimitedDepth;
@@ -138,159 +110,6 @@ void Translator::registerId(pugi::xml_node n) {
   if (!fresh) xml_.fail(n, "id", "'" + id + "' is used twice (first on line " + std::to_string(xml_.lineOf(it->second)) + ")");
 }
 
-// Mitsuba's integrator names → ours; max_depth counts segments in both
-// (integrators/path_length.h), so it carries over whichever integrator runs.
-void Translator::readIntegrator(pugi::xml_node n) {
-  static const std::map<std::string, std::string> names = {
-      {"path", "path"}, {"ptracer", "light"}, {"bdpt", "bdpt"}, {"sppm", "sppm"}, {"photonmapper", "photon"}};
-  std::string type = xml_.attr(n, "type");
-  Props p(xml_, n);
-  auto it = names.find(type);
-  if (it == names.end()) {
-    xml_.warn(n, "integrator '" + type + "' has no lightbench counterpart; dropped (--integrator chooses, default path)");
-    p.takeAll();
-    return;
-  }
-  YAML::Node integ(YAML::NodeType::Map);
-  integ["name"] = it->second;
-  long depth = p.getInt("max_depth", -1);
-  if (depth < -1) xml_.fail(n, "max_depth", "must be >= 0, or -1 for unlimited");
-  if (depth == -1) {
-    // Not every lightbench integrator can run unbounded paths (the photon methods cannot).
-    depth = kUnlimitedDepth;
-    xml_.warn(n, "max_depth unlimited (Mitsuba's default, or -1): approximated as " + std::to_string(kUnlimitedDepth) + " segments");
-  }
-  integ["max_depth"] = depth;
-  out_.sharedIntegratorKeys.push_back("max_depth");
-  for (pugi::xml_node o : p.objects) xml_.warn(o, "not supported inside <integrator>; dropped");
-  p.finish();
-  origin("integrator", n);
-  root_["integrator"] = integ;
-}
-
-// A pinhole camera. Mitsuba's camera looks along its local +z with +y up and
-// image-right along local −x; lightbench's right is cross(forward, up), which
-// is the same direction for a rotation, so images are not mirrored.
-void Translator::readSensor(pugi::xml_node n) {
-  if (sensorSeen_) xml_.fail(n, "", "a second <sensor>: lightbench renders one camera");
-  sensorSeen_ = true;
-  std::string type = xml_.attr(n, "type");
-  if (type != "perspective") xml_.fail(n, "type", "sensor '" + type + "' is not supported (only 'perspective')");
-  Props p(xml_, n);
-  double fov = 0;
-  std::string axis = p.getString("fov_axis", "x");
-  for (char& c : axis) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (p.has("fov") && p.has("focal_length")) xml_.fail(n, "fov", "give fov or focal_length, not both");
-  if (p.has("fov")) {
-    fov = p.getFloat("fov", 0);
-  } else {
-    // A 35 mm film's diagonal over the focal length ("50mm", Mitsuba's default).
-    std::string f = p.getString("focal_length", "50mm");
-    double mm = std::strtod(f.c_str(), nullptr);
-    if (!(mm > 0)) xml_.fail(n, "focal_length", "expected a length such as \"50mm\", got '" + f + "'");
-    fov = glm::degrees(2 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2 * mm)));
-    axis = "diagonal";
-  }
-  static const std::vector<std::string> axes = {"x", "y", "diagonal", "smaller", "larger"};
-  if (std::find(axes.begin(), axes.end(), axis) == axes.end())
-    xml_.fail(n, "fov_axis", "expected x, y, diagonal, smaller or larger, got '" + axis + "'");
-  glm::dmat4 m = p.getTransform("to_world");
-  if (glm::determinant(glm::dmat3(m)) < 0)
-    xml_.fail(n, "to_world", "a mirroring camera transform is not supported (the image would be flipped)");
-  for (int c = 0; c < 3; ++c)
-    if (std::abs(glm::length(glm::dvec3(m[c])) - 1) > 1e-3)
-      xml_.fail(n, "to_world", "a camera transform must not scale (Mitsuba refuses it too)");
-  for (const char* clip : {"near_clip", "far_clip"})
-    if (p.has(clip)) {
-      p.getFloat(clip, 0);
-      xml_.warn(n, std::string(clip) + " not supported; dropped (lightbench does not clip camera rays)");
-    }
-  bool film = false, sampler = false;
-  for (pugi::xml_node o : p.objects) {
-    std::string tag = o.name();
-    if (tag == "sampler") {
-      readSampler(o);
-      sampler = true;
-    } else if (tag == "film") {
-      readFilm(o);
-      film = true;
-    } else {
-      xml_.warn(o, "not supported inside <sensor>; dropped");
-    }
-  }
-  // Mitsuba's defaults: a 768 × 576 HDR film with a Gaussian filter, 4 samples per pixel.
-  if (!film) {
-    YAML::Node f(YAML::NodeType::Map);
-    f["width"] = 768;
-    f["height"] = 576;
-    root_["film"] = f;
-    xml_.warn(n, "no <film>: Mitsuba's default 768 x 576 film, with a box filter instead of its Gaussian");
-  }
-  if (!sampler) out_.sampleCount = 4;
-  p.finish();
-  glm::dvec3 position(m[3]), forward = glm::normalize(glm::dvec3(m[2])), up = glm::normalize(glm::dvec3(m[1]));
-  YAML::Node cam(YAML::NodeType::Map);
-  cam["position"] = flowVec(position);
-  // Far from the origin a unit step would lose the direction's precision in float.
-  cam["look_at"] = flowVec(position + forward * std::max(1.0, glm::length(position)));
-  cam["up"] = flowVec(up);
-  cam["fov"] = fov;
-  cam["fov_axis"] = axis;
-  origin("camera", n);
-  root_["camera"] = cam;
-}
-
-void Translator::readSampler(pugi::xml_node n) {
-  std::string type = xml_.attr(n, "type");
-  Props p(xml_, n);
-  long count = p.getInt("sample_count", 4);
-  if (count < 1) xml_.fail(n, "sample_count", "must be at least 1");
-  out_.sampleCount = uint64_t(count);
-  YAML::Node s(YAML::NodeType::Map);
-  if (type == "stratified") {
-    s["type"] = "stratified";
-    s["strata"] = std::clamp(int(std::lround(std::sqrt(double(count)))), 1, 64);
-  } else {
-    if (type != "independent")
-      xml_.warn(n, "sampler '" + type + "' not supported; approximated as independent (the same expectation, other variance)");
-    s["type"] = "independent";
-  }
-  if (type != "independent" && type != "stratified") p.takeAll();
-  p.finish();
-  origin("sampler", n);
-  root_["sampler"] = s;
-}
-
-void Translator::readFilm(pugi::xml_node n) {
-  std::string type = xml_.attr(n, "type");
-  Props p(xml_, n);
-  YAML::Node film(YAML::NodeType::Map);
-  film["width"] = p.getInt("width", 768);
-  film["height"] = p.getInt("height", 576);
-  if (type == "hdrfilm") {
-    // The output encoding, not the estimate: lightbench writes float RGB EXR.
-    for (const char* k : {"file_format", "pixel_format", "component_format"}) p.getString(k, "");
-  } else {
-    xml_.warn(n, "film '" + type + "' read as an HDR film: width and height kept, the rest dropped (lightbench writes EXR and PNG)");
-    p.takeAll();
-  }
-  bool filterGiven = false;
-  for (pugi::xml_node o : p.objects) {
-    if (std::string(o.name()) != "rfilter") {
-      xml_.warn(o, "not supported inside <film>; dropped");
-      continue;
-    }
-    filterGiven = true;
-    if (xml_.attr(o, "type") != "box")
-      xml_.warn(o, "reconstruction filter not supported; a box filter is used (each sample counts in its own pixel)");
-  }
-  if (!filterGiven)
-    xml_.warn(n, "no <rfilter>: Mitsuba would use a Gaussian; a box filter is used (each sample counts in its own pixel)");
-  p.finish();
-  origin("film", n);
-  root_["film"] = film;
-}
-
 // A named or inline BSDF becomes a material; returns its name.
 std::string Translator::readBsdf(pugi::xml_node n) {
   registerId(n);
@@ -311,33 +130,10 @@ std::string Translator::readBsdf(pugi::xml_node n) {
     if (nested.size() > 1) xml_.warn(nested[1], "a twosided BSDF's back-side BSDF is not supported; the front one is used on both sides");
     inner = nested[0];
   }
-  materials_[name] = bsdfDescription(inner, twoSided);
+  materials_[name] = translateBsdf(xml_, inner, twoSided);
   origin("materials." + name, inner);
   if (!id.empty()) bsdfMaterial_[id] = name;
   return name;
-}
-
-YAML::Node Translator::bsdfDescription(pugi::xml_node n, bool twoSided) {
-  std::string type = xml_.attr(n, "type");
-  Props p(xml_, n);
-  YAML::Node m(YAML::NodeType::Map);
-  m["type"] = "diffuse";
-  if (type == "diffuse") {
-    // 0.x's diffuseReflectance is diffuse's reflectance (Mitsuba 3's upgrade_tree).
-    const char* key = xml_.oldDialect && p.has("diffuse_reflectance") ? "diffuse_reflectance" : "reflectance";
-    glm::dvec3 albedo = p.getColor(key, glm::dvec3(0.5));
-    for (pugi::xml_node o : p.objects)
-      xml_.warn(o, "textures are not supported yet; the diffuse reflectance is " + std::string(p.has(key) ? "the value given" : "0.5"));
-    // lightbench's diffuse BSDF reflects on both sides (core/bsdfs/diffuse.h).
-    if (!twoSided) xml_.warn(n, "one-sided in Mitsuba (black from the back); rendered two-sided");
-    m["albedo"] = flowVec(albedo);
-  } else {
-    xml_.warn(n, "BSDF '" + type + "' not supported yet; approximated as diffuse with reflectance 0.5");
-    p.takeAll();
-    m["albedo"] = 0.5;
-  }
-  p.finish();
-  return m;
 }
 
 void Translator::readShape(pugi::xml_node n) {
@@ -366,6 +162,19 @@ void Translator::readShape(pugi::xml_node n) {
     s["center"] = flowVec(glm::dvec3(m * glm::dvec4(center, 1)));
     s["radius"] = radius * sx;
     if (flip) s["flip_normals"] = true;
+  } else if (type == "obj" || type == "ply") {
+    // Mitsuba's face_normals: flat shading; otherwise the file's vertex
+    // normals, or smooth ones computed when the file has none.
+    s["type"] = "mesh";
+    s["file"] = p.getString("filename", "");
+    if (s["file"].as<std::string>().empty()) xml_.fail(n, "filename", "is required");
+    YAML::Node t(YAML::NodeType::Map);
+    t["matrix"] = rowMajor(m);
+    s["transform"] = t;
+    if (p.getBool("face_normals", false)) s["face_normals"] = true;
+    else s["smooth_normals"] = true;
+    if (flip) s["flip_normals"] = true;
+    if (type == "obj" && p.has("flip_tex_coords")) p.getBool("flip_tex_coords", true);  // uvs: no textures yet
   } else {
     xml_.warn(n, "shape '" + type + "' not supported yet; dropped");
     p.takeAll();
@@ -452,7 +261,6 @@ void Translator::readEmitter(pugi::xml_node n) {
   lights_.push_back(l);
 }
 
-}  // namespace
 }  // namespace mitsuba
 
 MitsubaImport importMitsubaXmlFromString(const std::string& xml, const std::string& virtualPath) {

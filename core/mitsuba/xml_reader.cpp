@@ -194,6 +194,11 @@ std::string Props::getString(const std::string& name, const std::string& fallbac
   return n ? xml_.attr(n, "value") : fallback;
 }
 
+std::string Props::getText(const std::string& name, const std::string& fallback) {
+  pugi::xml_node n = take(name, {"string", "float", "integer"});
+  return n ? xml_.attr(n, "value") : fallback;
+}
+
 // rgb (1 or 3 values), float, or a spectrum given as one value: linear RGB.
 glm::dvec3 Props::getColor(const std::string& name, glm::dvec3 fallback) {
   pugi::xml_node n = take(name, {"rgb", "srgb", "spectrum", "float"});

@@ -63,6 +63,8 @@ class Props {
   long getInt(const std::string& name, long fallback);
   bool getBool(const std::string& name, bool fallback);
   std::string getString(const std::string& name, const std::string& fallback);
+  // The value as written, of a <string>, <float> or <integer> (an IOR is a number or a name).
+  std::string getText(const std::string& name, const std::string& fallback);
   // rgb (1 or 3 values), a float, or a spectrum of one value: linear RGB.
   glm::dvec3 getColor(const std::string& name, glm::dvec3 fallback);
   glm::dvec3 getPoint(const std::string& name, glm::dvec3 fallback);

@@ -1,0 +1,150 @@
+#include "core/mitsuba/bsdfs.h"
+#include <cmath>
+#include <cstdlib>
+#include <map>
+
+namespace lb::mitsuba {
+
+namespace {
+
+YAML::Node rgb(const glm::dvec3& c) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  for (int i = 0; i < 3; ++i) n.push_back(c[i]);
+  return n;
+}
+
+// Mitsuba's named indices of refraction (the table of its dielectric plugin's
+// documentation, after Hecht's "Optics").
+const std::map<std::string, double>& iorTable() {
+  static const std::map<std::string, double> table = {
+      {"vacuum", 1.0},          {"helium", 1.000036},        {"hydrogen", 1.000132},     {"air", 1.000277},
+      {"carbon dioxide", 1.00045}, {"water", 1.3330},        {"acetone", 1.36},          {"ethanol", 1.361},
+      {"carbon tetrachloride", 1.461}, {"glycerol", 1.4729}, {"benzene", 1.501},         {"silicone oil", 1.52045},
+      {"bromine", 1.661},       {"water ice", 1.31},         {"fused quartz", 1.458},    {"pyrex", 1.470},
+      {"acrylic glass", 1.49},  {"polypropylene", 1.49},     {"bk7", 1.5046},            {"sodium chloride", 1.544},
+      {"amber", 1.55},          {"pet", 1.5750},             {"diamond", 2.419}};
+  return table;
+}
+
+// RGB fits of a few of Mitsuba's named conductors (eta, k at about 650, 550
+// and 450 nm), as its scenes and Tungsten's write them.
+struct ComplexIor {
+  glm::dvec3 eta, k;
+};
+const std::map<std::string, ComplexIor>& conductorTable() {
+  static const std::map<std::string, ComplexIor> table = {
+      {"Au", {{0.143119, 0.374957, 1.44248}, {3.98316, 2.38572, 1.60322}}},
+      {"Ag", {{0.155265, 0.116723, 0.138342}, {4.82835, 3.12225, 2.14696}}},
+      {"Cu", {{0.200438, 0.924033, 1.10221}, {3.91295, 2.45285, 2.14219}}},
+      {"Al", {{1.65746, 0.880369, 0.521229}, {9.22387, 6.26952, 4.837}}}};
+  return table;
+}
+
+double iorProperty(XmlContext& xml, Props& p, pugi::xml_node n, const std::string& name, double fallback) {
+  if (!p.has(name)) return fallback;
+  std::string text = p.getText(name, "");  // a <string> names it, a <float> gives it
+  double v = namedIor(text);
+  if (v < 0) xml.fail(n, name, "unknown index of refraction '" + text + "' (a number, or e.g. bk7, water, air)");
+  return v;
+}
+
+// GGX is lightbench's only microfacet distribution; Beckmann of the same
+// alpha has the same mean slope but a different lobe shape.
+double microfacetAlpha(XmlContext& xml, Props& p, pugi::xml_node n) {
+  std::string distribution = p.getString("distribution", "beckmann");
+  double alpha = p.getFloat("alpha", 0.1);
+  if (p.has("alpha_u") || p.has("alpha_v")) {
+    double u = p.getFloat("alpha_u", alpha), v = p.getFloat("alpha_v", alpha);
+    if (u != v) xml.warn(n, "anisotropic roughness is not supported; approximated as isotropic alpha = (alpha_u + alpha_v) / 2");
+    alpha = (u + v) / 2;
+  }
+  p.getBool("sample_visible", true);  // how it samples, not what it estimates
+  if (distribution == "beckmann")
+    xml.warn(n, "Beckmann roughness is not supported; approximated as GGX with the same alpha");
+  else if (distribution != "ggx")
+    xml.fail(n, "distribution", "expected ggx or beckmann, got '" + distribution + "'");
+  return alpha;
+}
+
+YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
+  YAML::Node m(YAML::NodeType::Map);
+  m["type"] = "conductor";
+  std::string material = p.getString("material", "none");
+  if (material != "none") {
+    auto it = conductorTable().find(material);
+    if (it != conductorTable().end()) {
+      m["eta"] = rgb(it->second.eta);
+      m["k"] = rgb(it->second.k);
+    } else {
+      xml.warn(n, "conductor material '" + material + "' is not in lightbench's table (Au, Ag, Cu, Al); approximated as a perfect mirror (material none)");
+    }
+  }
+  if (p.has("eta")) m["eta"] = rgb(p.getColor("eta", glm::dvec3(0.0)));
+  if (p.has("k")) m["k"] = rgb(p.getColor("k", glm::dvec3(1.0)));
+  if (m["eta"] && !m["k"]) m["k"] = 0.0;
+  if (p.has("ext_eta")) {
+    p.getText("ext_eta", "");
+    xml.warn(n, "ext_eta is not supported; the exterior is taken as vacuum");
+  }
+  m["tint"] = rgb(p.getColor("specular_reflectance", glm::dvec3(1.0)));
+  m["roughness"] = rough ? microfacetAlpha(xml, p, n) : 0.0;
+  return m;
+}
+
+YAML::Node dielectric(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
+  YAML::Node m(YAML::NodeType::Map);
+  m["type"] = "dielectric";
+  double interior = iorProperty(xml, p, n, "int_ior", 1.5046), exterior = iorProperty(xml, p, n, "ext_ior", 1.000277);
+  if (!(interior > 0) || !(exterior > 0)) xml.fail(n, "int_ior", "indices of refraction must be positive");
+  m["ior"] = interior / exterior;
+  for (const char* tint : {"specular_reflectance", "specular_transmittance"})
+    if (p.has(tint) && p.getColor(tint, glm::dvec3(1.0)) != glm::dvec3(1.0))
+      xml.warn(n, std::string(tint) + " is not supported on dielectrics; dropped (untinted)");
+  m["roughness"] = rough ? microfacetAlpha(xml, p, n) : 0.0;
+  return m;
+}
+
+}  // namespace
+
+double namedIor(const std::string& name) {
+  char* end = nullptr;
+  double v = std::strtod(name.c_str(), &end);
+  if (end != name.c_str() && *end == '\0') return std::isfinite(v) ? v : -1;
+  auto it = iorTable().find(name);
+  return it == iorTable().end() ? -1 : it->second;
+}
+
+YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided) {
+  const std::string type = xml.attr(n, "type");
+  Props p(xml, n);
+  YAML::Node m;
+  bool reflectsOnly = true;
+  if (type == "diffuse") {
+    // 0.x's diffuseReflectance is diffuse's reflectance (Mitsuba 3's upgrade_tree).
+    const char* key = xml.oldDialect && p.has("diffuse_reflectance") ? "diffuse_reflectance" : "reflectance";
+    m = YAML::Node(YAML::NodeType::Map);
+    m["type"] = "diffuse";
+    m["albedo"] = rgb(p.getColor(key, glm::dvec3(0.5)));
+  } else if (type == "conductor" || type == "roughconductor") {
+    m = conductor(xml, p, n, type == "roughconductor");
+  } else if (type == "dielectric" || type == "roughdielectric") {
+    m = dielectric(xml, p, n, type == "roughdielectric");
+    reflectsOnly = false;
+  } else {
+    xml.warn(n, "BSDF '" + type + "' not supported yet; approximated as diffuse with reflectance 0.5");
+    p.takeAll();
+    reflectsOnly = false;  // already said: no second warning about its sides
+    m = YAML::Node(YAML::NodeType::Map);
+    m["type"] = "diffuse";
+    m["albedo"] = 0.5;
+  }
+  for (pugi::xml_node o : p.objects)
+    xml.warn(o, "textures are not supported yet; dropped (the BSDF's constant value, or its default, is used)");
+  // lightbench's reflecting BSDFs reflect on both sides (core/bsdfs/diffuse.h, conductor.h).
+  if (!twoSided && reflectsOnly) xml.warn(n, "one-sided in Mitsuba (black from the back); rendered two-sided");
+  p.finish();
+  return m;
+}
+
+}  // namespace lb::mitsuba

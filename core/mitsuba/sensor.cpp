@@ -1,0 +1,165 @@
+// The camera, film, sampler and integrator of a Mitsuba scene (see translator.h).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <vector>
+#include "core/mitsuba/translator.h"
+
+namespace lb::mitsuba {
+
+// Mitsuba's integrator names → ours; max_depth counts segments in both
+// (integrators/path_length.h), so it carries over whichever integrator runs.
+void Translator::readIntegrator(pugi::xml_node n) {
+  static const std::map<std::string, std::string> names = {
+      {"path", "path"}, {"ptracer", "light"}, {"bdpt", "bdpt"}, {"sppm", "sppm"}, {"photonmapper", "photon"}};
+  std::string type = xml_.attr(n, "type");
+  Props p(xml_, n);
+  integratorSeen_ = true;
+  auto it = names.find(type);
+  YAML::Node integ(YAML::NodeType::Map);
+  integ["name"] = it == names.end() ? "path" : it->second;
+  long depth = p.getInt("max_depth", -1);
+  if (depth < -1) xml_.fail(n, "max_depth", "must be >= 0, or -1 for unlimited");
+  if (depth == -1) {
+    // Not every lightbench integrator can run unbounded paths (the photon methods cannot).
+    depth = kUnlimitedDepth;
+    xml_.warn(n, "max_depth unlimited (Mitsuba's default, or -1): approximated as " + std::to_string(kUnlimitedDepth) + " segments");
+  }
+  integ["max_depth"] = depth;
+  out_.sharedIntegratorKeys.push_back("max_depth");
+  if (it == names.end()) {
+    // Its max_depth still defines the integral the scene asks for.
+    xml_.warn(n, "integrator '" + type + "' has no lightbench counterpart; path is the default (--integrator chooses), its max_depth is kept");
+    p.takeAll();
+  }
+  for (pugi::xml_node o : p.objects) xml_.warn(o, "not supported inside <integrator>; dropped");
+  p.finish();
+  origin("integrator", n);
+  root_["integrator"] = integ;
+}
+
+// A pinhole camera. Mitsuba's camera looks along its local +z with +y up and
+// image-right along local −x; lightbench's right is cross(forward, up), which
+// is the same direction for a rotation, so images are not mirrored.
+void Translator::readSensor(pugi::xml_node n) {
+  if (sensorSeen_) xml_.fail(n, "", "a second <sensor>: lightbench renders one camera");
+  sensorSeen_ = true;
+  std::string type = xml_.attr(n, "type");
+  if (type != "perspective") xml_.fail(n, "type", "sensor '" + type + "' is not supported (only 'perspective')");
+  Props p(xml_, n);
+  double fov = 0;
+  std::string axis = p.getString("fov_axis", "x");
+  for (char& c : axis) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (p.has("fov") && p.has("focal_length")) xml_.fail(n, "fov", "give fov or focal_length, not both");
+  if (p.has("fov")) {
+    fov = p.getFloat("fov", 0);
+  } else {
+    // A 35 mm film's diagonal over the focal length ("50mm", Mitsuba's default).
+    std::string f = p.getString("focal_length", "50mm");
+    double mm = std::strtod(f.c_str(), nullptr);
+    if (!(mm > 0)) xml_.fail(n, "focal_length", "expected a length such as \"50mm\", got '" + f + "'");
+    fov = glm::degrees(2 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2 * mm)));
+    axis = "diagonal";
+  }
+  static const std::vector<std::string> axes = {"x", "y", "diagonal", "smaller", "larger"};
+  if (std::find(axes.begin(), axes.end(), axis) == axes.end())
+    xml_.fail(n, "fov_axis", "expected x, y, diagonal, smaller or larger, got '" + axis + "'");
+  glm::dmat4 m = p.getTransform("to_world");
+  if (glm::determinant(glm::dmat3(m)) < 0)
+    xml_.fail(n, "to_world", "a mirroring camera transform is not supported (the image would be flipped)");
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(glm::length(glm::dvec3(m[c])) - 1) > 1e-3)
+      xml_.fail(n, "to_world", "a camera transform must not scale (Mitsuba refuses it too)");
+  for (const char* clip : {"near_clip", "far_clip"})
+    if (p.has(clip)) {
+      p.getFloat(clip, 0);
+      xml_.warn(n, std::string(clip) + " not supported; dropped (lightbench does not clip camera rays)");
+    }
+  bool film = false, sampler = false;
+  for (pugi::xml_node o : p.objects) {
+    std::string tag = o.name();
+    if (tag == "sampler") {
+      readSampler(o);
+      sampler = true;
+    } else if (tag == "film") {
+      readFilm(o);
+      film = true;
+    } else {
+      xml_.warn(o, "not supported inside <sensor>; dropped");
+    }
+  }
+  // Mitsuba's defaults: a 768 × 576 HDR film with a Gaussian filter, 4 samples per pixel.
+  if (!film) {
+    YAML::Node f(YAML::NodeType::Map);
+    f["width"] = 768;
+    f["height"] = 576;
+    root_["film"] = f;
+    xml_.warn(n, "no <film>: Mitsuba's default 768 x 576 film, with a box filter instead of its Gaussian");
+  }
+  if (!sampler) out_.sampleCount = 4;
+  p.finish();
+  glm::dvec3 position(m[3]), forward = glm::normalize(glm::dvec3(m[2])), up = glm::normalize(glm::dvec3(m[1]));
+  YAML::Node cam(YAML::NodeType::Map);
+  cam["position"] = flowVec(position);
+  // Far from the origin a unit step would lose the direction's precision in float.
+  cam["look_at"] = flowVec(position + forward * std::max(1.0, glm::length(position)));
+  cam["up"] = flowVec(up);
+  cam["fov"] = fov;
+  cam["fov_axis"] = axis;
+  origin("camera", n);
+  root_["camera"] = cam;
+}
+
+void Translator::readSampler(pugi::xml_node n) {
+  std::string type = xml_.attr(n, "type");
+  Props p(xml_, n);
+  long count = p.getInt("sample_count", 4);
+  if (count < 1) xml_.fail(n, "sample_count", "must be at least 1");
+  out_.sampleCount = uint64_t(count);
+  YAML::Node s(YAML::NodeType::Map);
+  if (type == "stratified") {
+    s["type"] = "stratified";
+    s["strata"] = std::clamp(int(std::lround(std::sqrt(double(count)))), 1, 64);
+  } else {
+    if (type != "independent")
+      xml_.warn(n, "sampler '" + type + "' not supported; approximated as independent (the same expectation, other variance)");
+    s["type"] = "independent";
+  }
+  if (type != "independent" && type != "stratified") p.takeAll();
+  p.finish();
+  origin("sampler", n);
+  root_["sampler"] = s;
+}
+
+void Translator::readFilm(pugi::xml_node n) {
+  std::string type = xml_.attr(n, "type");
+  Props p(xml_, n);
+  YAML::Node film(YAML::NodeType::Map);
+  film["width"] = p.getInt("width", 768);
+  film["height"] = p.getInt("height", 576);
+  if (type == "hdrfilm") {
+    // The output encoding, not the estimate: lightbench writes float RGB EXR.
+    for (const char* k : {"file_format", "pixel_format", "component_format"}) p.getString(k, "");
+  } else {
+    xml_.warn(n, "film '" + type + "' read as an HDR film: width and height kept, the rest dropped (lightbench writes EXR and PNG)");
+    p.takeAll();
+  }
+  bool filterGiven = false;
+  for (pugi::xml_node o : p.objects) {
+    if (std::string(o.name()) != "rfilter") {
+      xml_.warn(o, "not supported inside <film>; dropped");
+      continue;
+    }
+    filterGiven = true;
+    if (xml_.attr(o, "type") != "box")
+      xml_.warn(o, "reconstruction filter not supported; a box filter is used (each sample counts in its own pixel)");
+  }
+  if (!filterGiven)
+    xml_.warn(n, "no <rfilter>: Mitsuba would use a Gaussian; a box filter is used (each sample counts in its own pixel)");
+  p.finish();
+  origin("film", n);
+  root_["film"] = film;
+}
+
+}  // namespace lb::mitsuba

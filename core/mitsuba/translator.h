@@ -1,0 +1,48 @@
+#pragma once
+// The translation of one Mitsuba scene file, element by element: import.cpp
+// reads the scene, its BSDFs, shapes and emitters; sensor.cpp the camera,
+// film, sampler and integrator; bsdfs.cpp the BSDF plugins themselves.
+#include <map>
+#include <set>
+#include <string>
+#include "core/mitsuba/import.h"
+#include "core/mitsuba/xml_reader.h"
+
+namespace lb::mitsuba {
+
+// What Mitsuba's unlimited path length becomes (always with a warning).
+constexpr long kUnlimitedDepth = 100;
+
+YAML::Node flowVec(const glm::dvec3& v);
+// A 4x4 matrix as Mitsuba and lightbench's `transform: {matrix}` write it: row by row.
+YAML::Node rowMajor(const glm::dmat4& m);
+
+class Translator {
+ public:
+  Translator(std::string text, const std::string& path) : xml_(text, path), text_(std::move(text)) {}
+  MitsubaImport run();
+
+ private:
+  void readIntegrator(pugi::xml_node n);
+  void readSensor(pugi::xml_node n);
+  void readSampler(pugi::xml_node n);
+  void readFilm(pugi::xml_node n);
+  std::string readBsdf(pugi::xml_node n);
+  void readShape(pugi::xml_node n);
+  void readEmitter(pugi::xml_node n);
+  void registerId(pugi::xml_node n);
+  void origin(const std::string& key, pugi::xml_node n) { out_.origins.emplace_back(key, xml_.lineOf(n)); }
+
+  XmlContext xml_;
+  std::string text_;
+  MitsubaImport out_;
+  bool sensorSeen_ = false, integratorSeen_ = false;
+  std::map<std::string, pugi::xml_node> ids_;        // every id: duplicates are errors, refs look up
+  std::map<std::string, std::string> bsdfMaterial_;  // bsdf id → material name
+  std::set<std::string> materialNames_;
+  YAML::Node root_{YAML::NodeType::Map}, materials_{YAML::NodeType::Map};
+  YAML::Node shapes_{YAML::NodeType::Sequence}, lights_{YAML::NodeType::Sequence};
+};
+
+
+}  // namespace lb::mitsuba
