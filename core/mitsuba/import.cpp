@@ -241,6 +241,21 @@ void Translator::readEmitter(pugi::xml_node n) {
     l["type"] = "point";
     l["position"] = flowVec(position);
     l["intensity"] = flowVec(p.getColor("intensity", glm::dvec3(1.0)));
+  } else if (type == "spot") {
+    // Mitsuba's spot looks along its local +z from the origin of to_world.
+    glm::dmat4 m = p.getTransform("to_world");
+    glm::dvec3 position(m[3]), direction = glm::normalize(glm::dvec3(m[2]));
+    double cutoff = p.getFloat("cutoff_angle", 20), beam = p.getFloat("beam_width", cutoff * 3 / 4);
+    if (!(cutoff > 0 && cutoff < 180)) xml_.fail(n, "cutoff_angle", "must be in (0, 180) degrees");
+    l["type"] = "spot";
+    l["position"] = flowVec(position);
+    l["look_at"] = flowVec(position + direction * std::max(1.0, glm::length(position)));
+    l["intensity"] = flowVec(p.getColor("intensity", glm::dvec3(1.0)));
+    l["cone_angle"] = cutoff;
+    l["falloff_start"] = std::clamp(beam, 0.0, cutoff);
+    if (beam < cutoff)
+      xml_.warn(n, "the falloff between beam_width and cutoff_angle is linear in angle in Mitsuba, a smoothstep in "
+                   "cos(angle) in lightbench (the same band)");
   } else if (type == "constant") {
     l["type"] = "environment";
     l["radiance"] = flowVec(p.getColor("radiance", glm::dvec3(1.0)));

@@ -261,6 +261,26 @@ TEST(MitsubaImport, ConductorsAndDielectricsMapOntoLightbenchsMaterials) {
             std::string::npos);
 }
 
+TEST(MitsubaImport, EmittersBecomeLightsWithMitsubasDefaults) {
+  MitsubaImport imp = import(xmlScene(
+      "<emitter type=\"point\"><point name=\"position\" x=\"1\" y=\"2\" z=\"3\"/>"
+      "<rgb name=\"intensity\" value=\"5\"/></emitter>\n"
+      "<emitter type=\"spot\"><transform name=\"to_world\"><lookat origin=\"0, 4, 0\" target=\"0, 0, 0\" up=\"0, 0, 1\"/>"
+      "</transform><float name=\"cutoff_angle\" value=\"30\"/></emitter>\n"
+      "<emitter type=\"constant\"><rgb name=\"radiance\" value=\"0.5\"/></emitter>\n"));
+  YAML::Node lights = imp.scene["lights"];
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_EQ(lights[0]["type"].as<std::string>(), "point");
+  EXPECT_FLOAT_EQ(lights[0]["position"][2].as<float>(), 3.f);
+  EXPECT_FLOAT_EQ(lights[0]["intensity"][1].as<float>(), 5.f);
+  // The spot looks down -y from (0, 4, 0); Mitsuba's beam_width defaults to 3/4 of the cutoff.
+  EXPECT_EQ(lights[1]["type"].as<std::string>(), "spot");
+  EXPECT_FLOAT_EQ(lights[1]["look_at"][1].as<float>(), 0.f);
+  EXPECT_FLOAT_EQ(lights[1]["falloff_start"].as<float>(), 22.5f);
+  ASSERT_TRUE(findWarning(imp, "linear in angle"));
+  EXPECT_EQ(lights[2]["type"].as<std::string>(), "environment");
+}
+
 // Two unbiased integrators on each imported scene: the same image in
 // expectation (per-region z-tests, Šidák-corrected 1e-3), which holds only if
 // the importer built a consistent scene (emitters, BSDFs and normals that
