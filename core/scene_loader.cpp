@@ -11,6 +11,8 @@
 #include "core/bsdfs/material_factory.h"
 #include "core/lights/directional_light.h"
 #include "core/lights/environment_light.h"
+#include "core/lights/environment_map_light.h"
+#include "core/image.h"
 #include "core/lights/point_light.h"
 #include "core/lights/spot_light.h"
 #include "core/mesh_io.h"
@@ -229,6 +231,24 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     Vec3 dir = p.requireVec3("direction");
     if (glm::length(dir) == 0) p.fail("direction", "must not be zero");
     scene.addLight(std::make_unique<DirectionalLight>(dir, nonNegative(p, "irradiance", Color(1.f))));
+  } else if (p.has("file")) {
+    // An HDR lat-long map (core/lights/environment_map_light.h).
+    if (p.has("radiance")) p.fail("radiance", "give radiance (constant) or file (a map), not both");
+    std::string file = p.requireString("file");
+    Image map;
+    try {
+      map = readExr((std::filesystem::path(ctx.folder) / file).string());
+    } catch (const std::exception& e) {
+      p.fail("file", e.what());
+    }
+    for (const Color& c : map.pixels)
+      if (!(c.r >= 0 && c.g >= 0 && c.b >= 0 && std::isfinite(c.r + c.g + c.b)))
+        p.fail("file", "the map has negative or non-finite texels");
+    float scale = p.getFloat("scale", 1.f);
+    if (!(scale >= 0)) p.fail("scale", "must not be negative");
+    float rotate = p.getFloat("rotate_y", 0.f);
+    bool importance = p.getChoice("sampling", "importance", {"importance", "uniform"}) == "importance";
+    scene.addLight(std::make_unique<EnvironmentMapLight>(std::move(map), scale, rotate, importance));
   } else {
     scene.addLight(std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
   }

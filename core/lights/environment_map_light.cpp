@@ -1,0 +1,132 @@
+#include "core/lights/environment_map_light.h"
+#include <algorithm>
+#include <cmath>
+#include "core/frame.h"
+
+namespace lb {
+
+EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, float rotateYDegrees, bool importance)
+    : map_(std::move(map)), scale_(scale), cosRot_(std::cos(glm::radians(rotateYDegrees))),
+      sinRot_(std::sin(glm::radians(rotateYDegrees))), importance_(importance) {
+  const int w = map_.width, h = map_.height;
+  std::vector<float> rowWeights(static_cast<size_t>(h));
+  columns_.reserve(size_t(h));
+  for (int y = 0; y < h; ++y) {
+    const double sinTheta = std::sin(Pi * (y + 0.5) / h);
+    std::vector<float> weights(static_cast<size_t>(w));
+    double rowSum = 0;
+    for (int x = 0; x < w; ++x) {
+      const Color& c = map_.at(x, y);
+      weights[size_t(x)] = float(std::max({c.r, c.g, c.b}) * sinTheta);
+      rowSum += weights[size_t(x)];
+    }
+    columns_.emplace_back(weights);
+    rowWeights[size_t(y)] = float(rowSum);
+  }
+  rows_ = DiscreteDistribution(rowWeights);
+}
+
+void EnvironmentMapLight::preprocess(const Bounds3& b) {
+  // An empty scene has zero radius; a unit sphere keeps the emission pdfs finite.
+  center_ = b.center();
+  radius_ = b.radius() > 0 ? b.radius() : 1.f;
+}
+
+// The map's frame is the world's turned about +y by the rotation.
+Vec2 EnvironmentMapLight::uvOf(const Vec3& world) const {
+  Vec3 d(cosRot_ * world.x - sinRot_ * world.z, world.y, sinRot_ * world.x + cosRot_ * world.z);
+  float phi = std::atan2(d.x, -d.z);
+  if (phi < 0) phi += 2 * Pi;
+  float theta = std::acos(glm::clamp(d.y, -1.f, 1.f));
+  return {phi * Inv2Pi, theta * InvPi};
+}
+
+Vec3 EnvironmentMapLight::directionOf(Vec2 uv) const {
+  float phi = 2 * Pi * uv.x, theta = Pi * uv.y;
+  float s = std::sin(theta);
+  Vec3 d(s * std::sin(phi), std::cos(theta), -s * std::cos(phi));
+  return {cosRot_ * d.x + sinRot_ * d.z, d.y, -sinRot_ * d.x + cosRot_ * d.z};
+}
+
+const Color& EnvironmentMapLight::texel(Vec2 uv) const {
+  int x = std::clamp(int(uv.x * map_.width), 0, map_.width - 1);
+  int y = std::clamp(int(uv.y * map_.height), 0, map_.height - 1);
+  return map_.at(x, y);
+}
+
+Color EnvironmentMapLight::Le(const Vec3& d) const { return texel(uvOf(d)) * scale_; }
+
+float EnvironmentMapLight::directionPdf(const Vec3& d) const {
+  if (!importance_) return uniformSpherePdf();
+  Vec2 uv = uvOf(d);
+  float sinTheta = std::sin(Pi * uv.y);
+  if (!(sinTheta > 0) || rows_.total() <= 0) return 0;
+  int x = std::clamp(int(uv.x * map_.width), 0, map_.width - 1);
+  int y = std::clamp(int(uv.y * map_.height), 0, map_.height - 1);
+  // Density over [0,1]²: the texel's probability over its area 1/(w h).
+  float pdfUv = rows_.pmf(size_t(y)) * columns_[size_t(y)].pmf(size_t(x)) * float(map_.width) * float(map_.height);
+  return pdfUv / (2 * Pi * Pi * sinTheta);
+}
+
+Vec3 EnvironmentMapLight::sampleDirection(Vec2 u, float* pdf) const {
+  if (!importance_) {
+    *pdf = uniformSpherePdf();
+    return sampleUniformSphere(u);
+  }
+  *pdf = 0;
+  if (rows_.total() <= 0) return Vec3(0.f);
+  float pmfRow = 0, pmfColumn = 0, uy = 0, ux = 0;
+  size_t y = rows_.sample(u.y, &pmfRow, &uy);
+  size_t x = columns_[y].sample(u.x, &pmfColumn, &ux);
+  Vec2 uv((float(x) + ux) / float(map_.width), (float(y) + uy) / float(map_.height));
+  float sinTheta = std::sin(Pi * uv.y);
+  if (!(sinTheta > 0)) return Vec3(0.f);
+  *pdf = pmfRow * pmfColumn * float(map_.width) * float(map_.height) / (2 * Pi * Pi * sinTheta);
+  return directionOf(uv);
+}
+
+std::optional<LightSample> EnvironmentMapLight::sampleLi(const Vec3& ref, float, Vec2 u) const {
+  float pdf = 0;
+  Vec3 wi = sampleDirection(u, &pdf);
+  if (!(pdf > 0)) return std::nullopt;
+  return LightSample{Le(wi), wi, pdf, ref + wi * (2 * radius_ + glm::length(ref - center_))};
+}
+
+float EnvironmentMapLight::pdfLi(const Vec3&, const Vec3& wi, const Vec3&, const Vec3&) const {
+  return directionPdf(wi);
+}
+
+std::optional<LightEmission> EnvironmentMapLight::sampleLe(float, Vec2 uPos, Vec2 uDir) const {
+  float pdfDir = 0;
+  Vec3 w = sampleDirection(uDir, &pdfDir);  // towards the environment
+  if (!(pdfDir > 0)) return std::nullopt;
+  Frame frame(-w);
+  Vec2 d = sampleConcentricDisk(uPos);
+  LightEmission e;
+  e.ray = {center_ + w * radius_ + radius_ * (d.x * frame.s + d.y * frame.t), -w, Infinity};
+  e.p = e.ray.o;
+  e.Le = Le(w);
+  e.pdfPos = 1 / (Pi * radius_ * radius_);
+  e.pdfDir = pdfDir;
+  return e;
+}
+
+void EnvironmentMapLight::pdfLe(const Vec3&, const Vec3&, const Vec3& dir, float* pdfPos, float* pdfDir) const {
+  *pdfPos = 1 / (Pi * radius_ * radius_);
+  *pdfDir = directionPdf(-dir);
+}
+
+Color EnvironmentMapLight::integral() const {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < map_.height; ++y) {
+    // A texel row spans θ from π y / h to π (y + 1) / h: solid angle 2π/w × Δcos θ.
+    double solidAngle = 2 * Pi / map_.width * (std::cos(Pi * y / map_.height) - std::cos(Pi * (y + 1) / map_.height));
+    for (int x = 0; x < map_.width; ++x) sum += glm::dvec3(map_.at(x, y)) * solidAngle;
+  }
+  return Color(sum) * scale_;
+}
+
+// Power through the disc that emitted rays start on (as the constant environment's).
+Color EnvironmentMapLight::power() const { return integral() * Pi * radius_ * radius_; }
+
+}  // namespace lb

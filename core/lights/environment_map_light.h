@@ -1,0 +1,62 @@
+#pragma once
+// An HDR environment map: radiance arriving from direction d is the texel of
+// a latitude-longitude image at u = φ / 2π, v = θ / π, with θ measured from
+// +y (v = 0 is straight up) and d = (sin θ sin φ, cos θ, −sin θ cos φ) before
+// the map's rotation about +y (u = 0 looks along −z). Each texel is constant
+// (nearest lookup), so that importance sampling below follows Le exactly.
+//
+// Importance sampling (pbrt-v3 §14.2.4, pbrt-v4 §12.5.2): a piecewise-
+// constant 2-D distribution over texels, weights max(r, g, b) × sin θ at the
+// texel's centre; a row from the marginal, a column from that row's
+// conditional, each inverted by binary search (DiscreteDistribution). The
+// density over (u, v) becomes one over directions through the lat-long
+// mapping's Jacobian: p(ω) = p(u, v) / (2π² sin θ). `uniform` sampling (over
+// the sphere) is kept to measure what importance sampling gains.
+//
+// Both directions, as every light: sampleLi/pdfLi for next-event estimation,
+// sampleLe/pdfLe (a direction from the same distribution, a point on a disc
+// covering the scene) for light tracing, BDPT, VCM and the photon methods.
+#include <vector>
+#include "core/image.h"
+#include "core/lights/light.h"
+#include "core/sampling.h"
+
+namespace lb {
+
+class EnvironmentMapLight final : public Light {
+ public:
+  EnvironmentMapLight(Image map, float scale, float rotateYDegrees, bool importance);
+
+  void preprocess(const Bounds3& b) override;
+  std::optional<LightSample> sampleLi(const Vec3& ref, float uPick, Vec2 u) const override;
+  float pdfLi(const Vec3& ref, const Vec3& wi, const Vec3& pLight, const Vec3& nLight) const override;
+  std::optional<LightEmission> sampleLe(float uPick, Vec2 uPos, Vec2 uDir) const override;
+  void pdfLe(const Vec3& p, const Vec3& n, const Vec3& dir, float* pdfPos, float* pdfDir) const override;
+  Color power() const override;
+  Color Le(const Vec3& d) const override;
+  bool isDelta() const override { return false; }
+  bool isInfinite() const override { return true; }
+
+  // ∫ Le dω over the sphere, summed texel by texel (exact for this map).
+  Color integral() const;
+  // Solid-angle density of the direction sampler (importance or uniform).
+  float directionPdf(const Vec3& d) const;
+
+ private:
+  // A direction towards the environment, and its solid-angle pdf (0: none).
+  Vec3 sampleDirection(Vec2 u, float* pdf) const;
+  Vec2 uvOf(const Vec3& worldDir) const;
+  Vec3 directionOf(Vec2 uv) const;
+  const Color& texel(Vec2 uv) const;
+
+  Image map_;
+  float scale_;
+  float cosRot_, sinRot_;
+  bool importance_;
+  DiscreteDistribution rows_;
+  std::vector<DiscreteDistribution> columns_;
+  Vec3 center_{0.f};
+  float radius_ = 1;
+};
+
+}  // namespace lb
