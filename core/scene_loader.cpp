@@ -235,9 +235,13 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     // An HDR lat-long map (core/lights/environment_map_light.h).
     if (p.has("radiance")) p.fail("radiance", "give radiance (constant) or file (a map), not both");
     std::string file = p.requireString("file");
+    const std::filesystem::path full = std::filesystem::path(ctx.folder) / file;
+    std::error_code ec;
+    // A directory, FIFO or device would be read forever or not at all.
+    if (!std::filesystem::is_regular_file(full, ec)) p.fail("file", "not a regular file: " + full.string());
     Image map;
     try {
-      map = readExr((std::filesystem::path(ctx.folder) / file).string());
+      map = readExr(full.string());
     } catch (const std::exception& e) {
       p.fail("file", e.what());
     }
