@@ -8,6 +8,19 @@
 
 namespace lb {
 
+// An infinite light's emitted ray arriving from direction `towards` (pointing
+// at the environment): it starts on the disc of the scene's bounding sphere
+// facing that direction, so it crosses the whole scene (pdfPos 1/(π r²)).
+inline LightEmission emitFromBoundingDisc(const Vec3& center, float radius, const Vec3& towards, Vec2 uPos) {
+  Frame frame(-towards);
+  Vec2 d = sampleConcentricDisk(uPos);
+  LightEmission e;
+  e.ray = {center + towards * radius + radius * (d.x * frame.s + d.y * frame.t), -towards, Infinity};
+  e.p = e.ray.o;
+  e.pdfPos = 1 / (Pi * radius * radius);
+  return e;
+}
+
 class EnvironmentLight final : public Light {
  public:
   explicit EnvironmentLight(Color radiance) : radiance_(radiance) {}
@@ -21,13 +34,8 @@ class EnvironmentLight final : public Light {
   float pdfLi(const Vec3&, const Vec3&, const Vec3&, const Vec3&) const override { return uniformSpherePdf(); }
   std::optional<LightEmission> sampleLe(float, Vec2 uPos, Vec2 uDir) const override {
     Vec3 w = sampleUniformSphere(uDir);  // direction towards the environment
-    Frame frame(-w);
-    Vec2 d = sampleConcentricDisk(uPos);
-    LightEmission e;
-    e.ray = {center_ + w * radius_ + radius_ * (d.x * frame.s + d.y * frame.t), -w, Infinity};
-    e.p = e.ray.o;
+    LightEmission e = emitFromBoundingDisc(center_, radius_, w, uPos);
     e.Le = radiance_;
-    e.pdfPos = 1 / (Pi * radius_ * radius_);
     e.pdfDir = uniformSpherePdf();
     return e;
   }

@@ -1,7 +1,7 @@
 #include "core/lights/environment_map_light.h"
 #include <algorithm>
 #include <cmath>
-#include "core/frame.h"
+#include "core/lights/environment_light.h"
 
 namespace lb {
 
@@ -100,13 +100,8 @@ std::optional<LightEmission> EnvironmentMapLight::sampleLe(float, Vec2 uPos, Vec
   float pdfDir = 0;
   Vec3 w = sampleDirection(uDir, &pdfDir);  // towards the environment
   if (!(pdfDir > 0)) return std::nullopt;
-  Frame frame(-w);
-  Vec2 d = sampleConcentricDisk(uPos);
-  LightEmission e;
-  e.ray = {center_ + w * radius_ + radius_ * (d.x * frame.s + d.y * frame.t), -w, Infinity};
-  e.p = e.ray.o;
+  LightEmission e = emitFromBoundingDisc(center_, radius_, w, uPos);
   e.Le = Le(w);
-  e.pdfPos = 1 / (Pi * radius_ * radius_);
   e.pdfDir = pdfDir;
   return e;
 }

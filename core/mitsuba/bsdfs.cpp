@@ -1,4 +1,5 @@
 #include "core/mitsuba/bsdfs.h"
+#include "core/mitsuba/translator.h"
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -6,13 +7,6 @@
 namespace lb::mitsuba {
 
 namespace {
-
-YAML::Node rgb(const glm::dvec3& c) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  for (int i = 0; i < 3; ++i) n.push_back(c[i]);
-  return n;
-}
 
 // Mitsuba's named indices of refraction (the table of its dielectric plugin's
 // documentation, after Hecht's "Optics").
@@ -74,20 +68,20 @@ YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   if (material != "none") {
     auto it = conductorTable().find(material);
     if (it != conductorTable().end()) {
-      m["eta"] = rgb(it->second.eta);
-      m["k"] = rgb(it->second.k);
+      m["eta"] = flowVec(it->second.eta);
+      m["k"] = flowVec(it->second.k);
     } else {
       xml.warn(n, "conductor material '" + material + "' is not in lightbench's table (Au, Ag, Cu, Al); approximated as a perfect mirror (material none)");
     }
   }
-  if (p.has("eta")) m["eta"] = rgb(p.getColor("eta", glm::dvec3(0.0)));
-  if (p.has("k")) m["k"] = rgb(p.getColor("k", glm::dvec3(1.0)));
+  if (p.has("eta")) m["eta"] = flowVec(p.getColor("eta", glm::dvec3(0.0)));
+  if (p.has("k")) m["k"] = flowVec(p.getColor("k", glm::dvec3(1.0)));
   if (m["eta"] && !m["k"]) m["k"] = 0.0;
   if (p.has("ext_eta")) {
     p.getText("ext_eta", "");
     xml.warn(n, "ext_eta is not supported; the exterior is taken as vacuum");
   }
-  m["tint"] = rgb(p.getColor("specular_reflectance", glm::dvec3(1.0)));
+  m["tint"] = flowVec(p.getColor("specular_reflectance", glm::dvec3(1.0)));
   m["roughness"] = rough ? microfacetAlpha(xml, p, n) : 0.0;
   return m;
 }
@@ -125,7 +119,7 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided) {
     const char* key = xml.oldDialect && p.has("diffuse_reflectance") ? "diffuse_reflectance" : "reflectance";
     m = YAML::Node(YAML::NodeType::Map);
     m["type"] = "diffuse";
-    m["albedo"] = rgb(p.getColor(key, glm::dvec3(0.5)));
+    m["albedo"] = flowVec(p.getColor(key, glm::dvec3(0.5)));
   } else if (type == "conductor" || type == "roughconductor") {
     m = conductor(xml, p, n, type == "roughconductor");
   } else if (type == "dielectric" || type == "roughdielectric") {
