@@ -12,6 +12,7 @@ namespace lb {
 using Vec2 = glm::vec2;
 using Vec3 = glm::vec3;
 using Vec3d = glm::dvec3;
+using Mat3 = glm::mat3;
 using Mat4 = glm::mat4;
 using Color = glm::vec3;  // linear RGB radiance / reflectance
 

@@ -80,8 +80,11 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
       m.normals.emplace_back(n[0], n[1], n[2]);
     }
     if (hasUvs) {
+      // Texture space has v = 0 at the image's top (core/textures/texture.h);
+      // OBJ's vt has it at the bottom, so OBJ files are flipped as Mitsuba
+      // does (its obj shape's flip_tex_coords, on by default). PLY is not.
       auto t = om.texcoord2D(v);
-      m.uvs.emplace_back(t[0], t[1]);
+      m.uvs.emplace_back(t[0], ext == ".obj" ? 1 - t[1] : t[1]);
     }
   }
   for (auto f : om.faces()) {

@@ -94,6 +94,22 @@ Vec3 Params::toVec3(const YAML::Node& n, const std::string& key, bool allowScala
   return {toFloat(n[0], key), toFloat(n[1], key), toFloat(n[2], key)};
 }
 
+std::vector<float> Params::getFloatList(const std::string& key, size_t count) {
+  YAML::Node n = lookup(key);
+  if (!n || !n.IsSequence() || n.size() != count)
+    fail(key, "expected a list of " + std::to_string(count) + " numbers, got " +
+                  (n && n.IsSequence() ? "a list of " + std::to_string(n.size()) : shapeOf(n)));
+  std::vector<float> v;
+  YAML::Node seq(YAML::NodeType::Sequence);
+  seq.SetStyle(YAML::EmitterStyle::Flow);
+  for (size_t i = 0; i < count; ++i) {
+    v.push_back(toFloat(n[i], key));
+    seq.push_back(v.back());
+  }
+  resolved_[key] = seq;
+  return v;
+}
+
 float Params::getFloat(const std::string& key, float fallback) {
   YAML::Node n = lookup(key);
   return record(key, n && !n.IsNull() ? toFloat(n, key) : fallback);

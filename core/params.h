@@ -30,6 +30,8 @@ class Params {
   std::string getChoice(const std::string& key, const std::string& fallback, const std::vector<std::string>& choices);
   Vec3 getVec3(const std::string& key, Vec3 fallback);
   Vec3 requireVec3(const std::string& key);
+  // Exactly `count` finite numbers.
+  std::vector<float> getFloatList(const std::string& key, size_t count);
   // Colours also accept a single number (grey).
   Color getColor(const std::string& key, Color fallback);
   Color requireColor(const std::string& key);

@@ -138,8 +138,11 @@ void Shape::fillInteraction(const Ray& ray, float t, int prim, float u, float v,
     if (sphere_.flipNormals) n = -n;
     si.ng = n;
     si.shading = Frame(n);
-    float phi = std::atan2(n.y, n.x);
-    si.uv = Vec2((phi < 0 ? phi + 2 * Pi : phi) * Inv2Pi, std::acos(glm::clamp(n.z, -1.f, 1.f)) * InvPi);
+    // Mitsuba's sphere parametrisation (z up in the sphere's frame), from the
+    // point, so that flipping the normals does not move a texture.
+    Vec3 dir = glm::normalize(pLocal);
+    float phi = std::atan2(dir.y, dir.x);
+    si.uv = Vec2((phi < 0 ? phi + 2 * Pi : phi) * Inv2Pi, std::acos(glm::clamp(dir.z, -1.f, 1.f)) * InvPi);
     return;
   }
   const auto& tri = mesh_.triangles[prim];

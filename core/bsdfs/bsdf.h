@@ -6,7 +6,8 @@
 //    adjoint estimators still agree);
 //  * the adjoint shading-normal correction for importance transport (Veach 1997,
 //    §5.3, Eq. 5.19): f*·|wo·ns||wi·ng| / (|wo·ng||wi·ns|), so integrators keep
-//    multiplying by |wi·ns| in both modes.
+//    multiplying by |wi·ns| in both modes;
+//  * the material's texture at the hit's uv, a factor on f (material.h).
 #include "core/bsdfs/material.h"
 #include "core/interaction.h"
 
@@ -26,7 +27,8 @@ struct ScatterSample {
 
 class BSDF {
  public:
-  BSDF(const SurfaceInteraction& si) : frame_(si.shading), ng_(si.ng), material_(si.material) {}
+  BSDF(const SurfaceInteraction& si)
+      : frame_(si.shading), ng_(si.ng), material_(si.material), texture_(si.material->textureAt(si.uv)) {}
 
   const Material& material() const { return *material_; }
   bool isDelta() const { return material_->isDelta(); }
@@ -38,7 +40,7 @@ class BSDF {
     Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
     if (leaks(woWorld, wo) || leaks(wiWorld, wi)) return {};
     BSDFEval e = material_->eval(wo, wi, mode);
-    e.f *= adjointCorrection(woWorld, wiWorld, wo, wi, mode);
+    e.f *= texture_ * adjointCorrection(woWorld, wiWorld, wo, wi, mode);
     return e;
   }
 
@@ -49,7 +51,7 @@ class BSDF {
     if (!s || s->pdf == 0) return std::nullopt;
     Vec3 wiWorld = frame_.toWorld(s->wi);
     if (leaks(wiWorld, s->wi)) return std::nullopt;
-    Color f = s->f * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
+    Color f = s->f * texture_ * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
     return ScatterSample{wiWorld, f, f * absCosTheta(s->wi) / s->pdf, s->pdf, s->pdfRev, s->lobe, s->eta};
   }
 
@@ -71,6 +73,7 @@ class BSDF {
   Frame frame_;
   Vec3 ng_;
   const Material* material_;
+  Color texture_;  // the material's texture at this hit (1 if it has none)
 };
 
 }  // namespace lb

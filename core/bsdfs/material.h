@@ -15,9 +15,15 @@
 //  * In TransportMode::Importance, refraction does not scale by 1/η² (radiance
 //    does; Veach 1997 §5.2). The shading-normal adjoint correction is applied
 //    by the BSDF wrapper (bsdf.h), never by a material.
+//  * A material may carry a texture (core/textures/texture.h): f is scaled by
+//    its value at the hit's uv, again by the BSDF wrapper. Only quantities f
+//    is linear in are textured (diffuse albedo, conductor tint), so pdfs and
+//    sampling do not depend on it.
+#include <memory>
 #include <optional>
 #include <string>
 #include "core/frame.h"
+#include "core/textures/texture.h"
 
 namespace lb {
 
@@ -60,8 +66,15 @@ class Material {
   // Relative IOR crossed when transmitting from wo's side (1 for opaque materials).
   virtual float relativeEta(const Vec3& /*wo*/) const { return 1.f; }
 
+  void setTexture(std::shared_ptr<const Texture> t) { texture_ = std::move(t); }
+  Color textureAt(Vec2 uv) const { return texture_ ? texture_->eval(uv) : Color(1.f); }
+  const Texture* texture() const { return texture_.get(); }
+
   bool isDelta() const { return (flags() & BSDFSpecular) && !(flags() & (BSDFDiffuse | BSDFGlossy)); }
   bool hasTransmission() const { return flags() & BSDFTransmission; }
+
+ private:
+  std::shared_ptr<const Texture> texture_;
 };
 
 }  // namespace lb

@@ -2,6 +2,7 @@
 #include "core/bsdfs/conductor.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
+#include "core/bsdfs/thin_dielectric.h"
 
 namespace lb {
 
@@ -26,8 +27,8 @@ float roughness(Params& p) {
 }
 }  // namespace
 
-std::unique_ptr<Material> makeMaterial(Params& p) {
-  std::string type = p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric"});
+std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
+  std::string type = p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric", "thin_dielectric"});
   std::unique_ptr<Material> m;
   if (type == "diffuse") {
     m = std::make_unique<Diffuse>(reflectance(p, "albedo", Color(0.5f)));
@@ -44,6 +45,10 @@ std::unique_ptr<Material> makeMaterial(Params& p) {
     float alpha = roughness(p);
     if (alpha < SmoothAlpha) m = std::make_unique<SmoothConductor>(fresnel);
     else m = std::make_unique<RoughConductor>(fresnel, alpha);
+  } else if (type == "thin_dielectric") {
+    float ior = p.getFloat("ior", 1.5f);
+    if (ior <= 0) p.fail("ior", "must be positive");
+    m = std::make_unique<ThinDielectric>(ior);
   } else {
     float ior = p.getFloat("ior", 1.5f);
     if (ior <= 0) p.fail("ior", "must be positive");
@@ -52,6 +57,17 @@ std::unique_ptr<Material> makeMaterial(Params& p) {
     // straight pass-through, which only the smooth model represents.
     if (alpha < SmoothAlpha || ior == 1.f) m = std::make_unique<SmoothDielectric>(ior);
     else m = std::make_unique<RoughDielectric>(ior, alpha);
+  }
+  // A texture scales f (material.h): the albedo of a diffuse surface, the tint
+  // of a conductor. Elsewhere f is not linear in a colour we could texture.
+  if (auto tp = p.getChild("texture")) {
+    if (type != "diffuse" && type != "conductor") p.fail("texture", "only diffuse and conductor materials take a texture");
+    auto texture = makeTexture(*tp, folder);
+    Color albedo = type == "diffuse" ? p.getColor("albedo", Color(0.5f)) : p.getColor("tint", Color(1.f));
+    if (glm::any(glm::greaterThan(texture->maxValue() * albedo, Color(1.f))))
+      p.fail("texture", "its values times the material's " + std::string(type == "diffuse" ? "albedo" : "tint") +
+                            " exceed 1 (energy conservation)");
+    m->setTexture(std::move(texture));
   }
   p.checkUnused();
   return m;

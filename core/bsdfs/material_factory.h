@@ -6,9 +6,10 @@
 
 namespace lb {
 
-// Types: diffuse {albedo}, conductor {roughness, tint, eta, k},
-// dielectric {ior, roughness}. roughness is the GGX alpha; below 1e-3 the
-// smooth (delta) model is used.
-std::unique_ptr<Material> makeMaterial(Params& params);
+// Types: diffuse {albedo, texture}, conductor {roughness, tint, eta, k,
+// texture}, dielectric {ior, roughness}, thin_dielectric {ior}. roughness is
+// the GGX alpha; below 1e-3 the smooth (delta) model is used. A texture's
+// files are relative to `folder` (the scene's).
+std::unique_ptr<Material> makeMaterial(Params& params, const std::string& folder = ".");
 
 }  // namespace lb

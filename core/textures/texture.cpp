@@ -1,0 +1,85 @@
+#include "core/textures/texture.h"
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include "core/params.h"
+
+namespace lb {
+
+namespace {
+// Repeat: the texel index modulo the size, also for negative coordinates.
+int wrap(int i, int n) { return ((i % n) + n) % n; }
+}  // namespace
+
+ImageTexture::ImageTexture(Image image, bool bilinear, const std::array<float, 6>& uvTransform)
+    : Texture(uvTransform), image_(std::move(image)), bilinear_(bilinear) {
+  for (const Color& c : image_.pixels) {
+    max_ = glm::max(max_, c);
+    mean_ += c;
+  }
+  if (!image_.pixels.empty()) mean_ /= float(image_.pixels.size());
+}
+
+Color ImageTexture::texel(int x, int y) const { return image_.at(wrap(x, image_.width), wrap(y, image_.height)); }
+
+Color ImageTexture::lookup(Vec2 uv) const {
+  // Continuous texel coordinates, row 0 at the top (v = 0).
+  float x = uv.x * image_.width, y = uv.y * image_.height;
+  if (!std::isfinite(x) || !std::isfinite(y)) return Color(0.f);
+  // Keep the coordinates small before flooring (a uv of 1e30 repeats anyway).
+  x = std::fmod(x, float(image_.width));
+  y = std::fmod(y, float(image_.height));
+  if (!bilinear_) return texel(int(std::floor(x)), int(std::floor(y)));
+  x -= 0.5f;
+  y -= 0.5f;
+  int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  float fx = x - x0, fy = y - y0;
+  return (1 - fx) * (1 - fy) * texel(x0, y0) + fx * (1 - fy) * texel(x0 + 1, y0) +
+         (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
+}
+
+Color CheckerboardTexture::lookup(Vec2 uv) const {
+  auto cell = [](float t) { return t - std::floor(t) >= 0.5f; };
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return c1_;
+  return cell(uv.x) == cell(uv.y) ? c0_ : c1_;
+}
+
+std::shared_ptr<const Texture> makeTexture(Params& p, const std::string& folder) {
+  std::string type = p.getChoice("type", "", {"image", "checkerboard"});
+  std::array<float, 6> m = {1, 0, 0, 0, 1, 0};
+  if (p.has("uv_transform")) {
+    // [a, b, c, d, e, f]: u' = a u + b v + c, v' = d u + e v + f.
+    std::vector<float> v = p.getFloatList("uv_transform", 6);
+    std::copy(v.begin(), v.end(), m.begin());
+  }
+  std::shared_ptr<const Texture> t;
+  if (type == "image") {
+    std::string file = p.requireString("file");
+    bool srgb = p.getBool("srgb", true);
+    bool bilinear = p.getChoice("filter", "bilinear", {"bilinear", "nearest"}) == "bilinear";
+    std::filesystem::path full = std::filesystem::path(folder) / file;
+    std::string ext = full.extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png" && ext != ".exr") p.fail("file", "'" + file + "': lightbench reads PNG and EXR textures");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(full, ec)) p.fail("file", "'" + full.string() + "' is not a readable file");
+    Image image;
+    try {
+      // EXR holds linear values already; `srgb` applies to 8-bit PNG only.
+      image = ext == ".exr" ? readExr(full.string()) : readPng(full.string(), srgb);
+    } catch (const std::runtime_error& e) {
+      p.fail("file", e.what());
+    }
+    for (const Color& c : image.pixels)
+      if (!std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b) || glm::any(glm::lessThan(c, Color(0.f))))
+        p.fail("file", "'" + file + "' has a negative, NaN or infinite texel");
+    t = std::make_shared<ImageTexture>(std::move(image), bilinear, m);
+  } else {
+    Color c0 = p.getColor("color0", Color(0.4f)), c1 = p.getColor("color1", Color(0.2f));
+    t = std::make_shared<CheckerboardTexture>(c0, c1, m);
+  }
+  p.checkUnused();
+  return t;
+}
+
+}  // namespace lb
