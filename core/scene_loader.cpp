@@ -86,28 +86,47 @@ TriangleMesh rectangleMesh() {
   return m;
 }
 
+// The unit disc at z = 0 facing +z, as a regular polygon of `segments` sides
+// (area (n/2)·sin(2π/n), 0.01 % short of π at 256), uv = (r, φ/2π) as
+// Mitsuba's disk; each fan triangle has its own centre vertex, so that φ is
+// continuous within it.
+TriangleMesh diskMesh(int segments) {
+  TriangleMesh m;
+  for (int i = 0; i < segments; ++i) {
+    float phi0 = 2 * Pi * i / segments, phi1 = 2 * Pi * (i + 1) / segments;
+    unsigned b = unsigned(m.positions.size());
+    m.positions.push_back(Vec3(0.f));
+    m.positions.push_back(Vec3(std::cos(phi0), std::sin(phi0), 0));
+    m.positions.push_back(Vec3(std::cos(phi1), std::sin(phi1), 0));
+    m.uvs.push_back(Vec2(0, (i + 0.5f) / segments));
+    m.uvs.push_back(Vec2(1, float(i) / segments));
+    m.uvs.push_back(Vec2(1, float(i + 1) / segments));
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  return m;
+}
+
+// [-1,1]³ as Mitsuba's cube: 24 vertices, each face mapped onto [0,1]² of
+// texture space, windings outward (the geometric normal follows the winding).
 TriangleMesh boxMesh() {
   TriangleMesh m;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int sign = -1; sign <= 1; sign += 2) {
-      Vec3 n(0.f), a(0.f), b(0.f);
-      n[axis] = float(sign);
-      a[(axis + 1) % 3] = 1;
-      b[(axis + 2) % 3] = 1;
-      if (sign < 0) std::swap(a, b);  // keep the winding outward
-      unsigned base = unsigned(m.positions.size());
-      m.positions.push_back(n - a - b);
-      m.positions.push_back(n + a - b);
-      m.positions.push_back(n + a + b);
-      m.positions.push_back(n - a + b);
-      m.triangles.push_back({base, base + 1, base + 2});
-      m.triangles.push_back({base, base + 2, base + 3});
-    }
+  m.positions = {{1, -1, -1}, {1, -1, 1},  {-1, -1, 1}, {-1, -1, -1},  // -y
+                 {1, 1, -1},  {-1, 1, -1}, {-1, 1, 1},  {1, 1, 1},     // +y
+                 {1, -1, -1}, {1, 1, -1},  {1, 1, 1},   {1, -1, 1},    // +x
+                 {1, -1, 1},  {1, 1, 1},   {-1, 1, 1},  {-1, -1, 1},   // +z
+                 {-1, -1, 1}, {-1, 1, 1},  {-1, 1, -1}, {-1, -1, -1},  // -x
+                 {1, 1, -1},  {1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}}; // -z
+  for (unsigned face = 0; face < 6; ++face) {
+    unsigned b = 4 * face;
+    m.triangles.push_back({b, b + 1, b + 2});
+    m.triangles.push_back({b + 3, b, b + 2});
+    for (Vec2 uv : {Vec2(0, 1), Vec2(1, 1), Vec2(1, 0), Vec2(0, 0)}) m.uvs.push_back(uv);
+  }
   return m;
 }
 
 void readShape(Params& p, Scene& scene, LoadContext& ctx) {
-  std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box"});
+  std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box", "disk"});
   int material = ctx.defaultMaterial;
   if (p.has("material")) {
     std::string name = p.getString("material", "");
@@ -166,7 +185,13 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
         p.fail("file", e.what());
       }
     } else {
-      mesh = type == "box" ? boxMesh() : rectangleMesh();
+      if (type == "disk") {
+        int segments = p.getInt("segments", 256);
+        if (segments < 3 || segments > 65536) p.fail("segments", "must be in [3, 65536]");
+        mesh = diskMesh(segments);
+      } else {
+        mesh = type == "box" ? boxMesh() : rectangleMesh();
+      }
       dropped = transformMesh(mesh, toWorld);
     }
     // The geometric normal follows the winding (core/shape.cpp).
@@ -250,9 +275,20 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
         p.fail("file", "the map has negative or non-finite texels");
     float scale = p.getFloat("scale", 1.f);
     if (!(scale >= 0)) p.fail("scale", "must not be negative");
-    float rotate = p.getFloat("rotate_y", 0.f);
+    // rotate_y (degrees about +y), or a 3×3 orthogonal `rotation`, row by row.
+    Mat3 toWorld = Mat3(glm::rotate(Mat4(1.f), glm::radians(p.getFloat("rotate_y", 0.f)), Vec3(0, 1, 0)));
+    if (p.has("rotation")) {
+      if (p.has("rotate_y")) p.fail("rotation", "give rotate_y or rotation, not both");
+      std::vector<float> r = p.getFloatList("rotation", 9);
+      for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 3; ++col) toWorld[col][row] = r[size_t(3 * row + col)];
+      Mat3 e = glm::transpose(toWorld) * toWorld - Mat3(1.f);
+      float worst = 0;
+      for (int i = 0; i < 3; ++i) worst = std::max({worst, std::abs(e[i].x), std::abs(e[i].y), std::abs(e[i].z)});
+      if (!(worst < 1e-4f)) p.fail("rotation", "must be orthogonal (a rotation, possibly mirrored): RᵀR differs from I by " + std::to_string(worst));
+    }
     bool importance = p.getChoice("sampling", "importance", {"importance", "uniform"}) == "importance";
-    scene.addLight(std::make_unique<EnvironmentMapLight>(std::move(map), scale, rotate, importance));
+    scene.addLight(std::make_unique<EnvironmentMapLight>(std::move(map), scale, toWorld, importance));
   } else {
     scene.addLight(std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
   }
@@ -317,7 +353,7 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
       mats->has(name);  // mark as read
       Params mp(it->second, path, "materials." + name);
       if (!it->second.IsMap()) mp.fail("", "expected a mapping with a 'type'");
-      ctx.materials[name] = scene.addMaterial(makeMaterial(mp));
+      ctx.materials[name] = scene.addMaterial(makeMaterial(mp, ctx.folder));
     }
     mats->checkUnused();
   }

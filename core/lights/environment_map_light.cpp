@@ -5,9 +5,8 @@
 
 namespace lb {
 
-EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, float rotateYDegrees, bool importance)
-    : map_(std::move(map)), scale_(scale), cosRot_(std::cos(glm::radians(rotateYDegrees))),
-      sinRot_(std::sin(glm::radians(rotateYDegrees))), importance_(importance) {
+EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, const Mat3& toWorld, bool importance)
+    : map_(std::move(map)), scale_(scale), toWorld_(toWorld), toMap_(glm::transpose(toWorld)), importance_(importance) {
   const int w = map_.width, h = map_.height;
   std::vector<float> rowWeights(static_cast<size_t>(h));
   columns_.reserve(size_t(h));
@@ -32,9 +31,10 @@ void EnvironmentMapLight::preprocess(const Bounds3& b) {
   radius_ = b.radius() > 0 ? b.radius() : 1.f;
 }
 
-// The map's frame is the world's turned about +y by the rotation.
+// The map's frame is the world's turned by the rotation (orthogonal, so its
+// inverse is its transpose and densities over directions are unchanged).
 Vec2 EnvironmentMapLight::uvOf(const Vec3& world) const {
-  Vec3 d(cosRot_ * world.x - sinRot_ * world.z, world.y, sinRot_ * world.x + cosRot_ * world.z);
+  Vec3 d = toMap_ * world;
   float phi = std::atan2(d.x, -d.z);
   if (phi < 0) phi += 2 * Pi;
   float theta = std::acos(glm::clamp(d.y, -1.f, 1.f));
@@ -45,7 +45,7 @@ Vec3 EnvironmentMapLight::directionOf(Vec2 uv) const {
   float phi = 2 * Pi * uv.x, theta = Pi * uv.y;
   float s = std::sin(theta);
   Vec3 d(s * std::sin(phi), std::cos(theta), -s * std::cos(phi));
-  return {cosRot_ * d.x + sinRot_ * d.z, d.y, -sinRot_ * d.x + cosRot_ * d.z};
+  return toWorld_ * d;
 }
 
 const Color& EnvironmentMapLight::texel(Vec2 uv) const {

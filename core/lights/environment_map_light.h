@@ -2,7 +2,7 @@
 // An HDR environment map: radiance arriving from direction d is the texel of
 // a latitude-longitude image at u = φ / 2π, v = θ / π, with θ measured from
 // +y (v = 0 is straight up) and d = (sin θ sin φ, cos θ, −sin θ cos φ) before
-// the map's rotation about +y (u = 0 looks along −z). Each texel is constant
+// the map's rotation (u = 0 looks along −z; Mitsuba's envmap convention). Each texel is constant
 // (nearest lookup), so that importance sampling below follows Le exactly.
 //
 // Importance sampling (pbrt-v3 §14.2.4, pbrt-v4 §12.5.2): a piecewise-
@@ -25,7 +25,9 @@ namespace lb {
 
 class EnvironmentMapLight final : public Light {
  public:
-  EnvironmentMapLight(Image map, float scale, float rotateYDegrees, bool importance);
+  // `toWorld` turns the map's frame into the world's: a rotation (or any
+  // orthogonal matrix), Mitsuba's to_world.
+  EnvironmentMapLight(Image map, float scale, const Mat3& toWorld, bool importance);
 
   void preprocess(const Bounds3& b) override;
   std::optional<LightSample> sampleLi(const Vec3& ref, float uPick, Vec2 u) const override;
@@ -51,7 +53,7 @@ class EnvironmentMapLight final : public Light {
 
   Image map_;
   float scale_;
-  float cosRot_, sinRot_;
+  Mat3 toWorld_, toMap_;
   bool importance_;
   DiscreteDistribution rows_;
   std::vector<DiscreteDistribution> columns_;
