@@ -109,22 +109,50 @@ double namedIor(const std::string& name) {
   return it == iorTable().end() ? -1 : it->second;
 }
 
-YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided) {
+YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided,
+                         const std::map<std::string, pugi::xml_node>& ids) {
   const std::string type = xml.attr(n, "type");
   Props p(xml, n);
+  // Nested textures and refs, by the property they give.
+  std::map<std::string, pugi::xml_node> textures;
+  for (pugi::xml_node o : p.objects) {
+    std::string tag = o.name();
+    if ((tag == "texture" || tag == "ref") && o.attribute("name")) textures[xml.propertyName(o)] = o;
+    else xml.warn(o, "not supported inside a <bsdf>; dropped");
+  }
+  // The property lightbench can texture: f is linear in it (material.h).
+  std::string textured;
   YAML::Node m;
   bool reflectsOnly = true;
   if (type == "diffuse") {
     // 0.x's diffuseReflectance is diffuse's reflectance (Mitsuba 3's upgrade_tree).
-    const char* key = xml.oldDialect && p.has("diffuse_reflectance") ? "diffuse_reflectance" : "reflectance";
+    const char* key = xml.oldDialect && (p.has("diffuse_reflectance") || textures.count("diffuse_reflectance"))
+                          ? "diffuse_reflectance" : "reflectance";
     m = YAML::Node(YAML::NodeType::Map);
     m["type"] = "diffuse";
     m["albedo"] = flowVec(p.getColor(key, glm::dvec3(0.5)));
+    textured = key;
   } else if (type == "conductor" || type == "roughconductor") {
     m = conductor(xml, p, n, type == "roughconductor");
+    textured = "specular_reflectance";
   } else if (type == "dielectric" || type == "roughdielectric") {
     m = dielectric(xml, p, n, type == "roughdielectric");
     reflectsOnly = false;
+  } else if (type == "thindielectric") {
+    m = dielectric(xml, p, n, false);
+    m["type"] = "thin_dielectric";
+    m.remove("roughness");
+    reflectsOnly = false;
+  } else if (type == "plastic" || type == "roughplastic") {
+    // lightbench has no coated material yet: the diffuse base is kept.
+    xml.warn(n, "BSDF '" + type + "' is not supported; approximated as diffuse with its diffuse_reflectance (the specular coating is dropped)");
+    m = YAML::Node(YAML::NodeType::Map);
+    m["type"] = "diffuse";
+    m["albedo"] = flowVec(p.getColor("diffuse_reflectance", glm::dvec3(0.5)));
+    textured = "diffuse_reflectance";
+    for (const char* k : {"int_ior", "ext_ior", "specular_reflectance", "nonlinear", "distribution", "alpha", "sample_visible"})
+      p.getText(k, "");
+    p.takeAll();
   } else {
     xml.warn(n, "BSDF '" + type + "' not supported yet; approximated as diffuse with reflectance 0.5");
     p.takeAll();
@@ -133,8 +161,16 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided) {
     m["type"] = "diffuse";
     m["albedo"] = 0.5;
   }
-  for (pugi::xml_node o : p.objects)
-    xml.warn(o, "textures are not supported yet; dropped (the BSDF's constant value, or its default, is used)");
+  for (auto& [property, node] : textures) {
+    if (property != textured) {
+      xml.warn(node, "a texture on '" + property + "' of <bsdf type=\"" + type + "\"> is not supported; dropped (its constant default is used)");
+      continue;
+    }
+    YAML::Node t = translateTexture(xml, node, ids);
+    if (!t) continue;
+    m["texture"] = t;
+    m[m["type"].as<std::string>() == "conductor" ? "tint" : "albedo"] = 1.0;  // the texture is the whole colour
+  }
   // lightbench's reflecting BSDFs reflect on both sides (core/bsdfs/diffuse.h, conductor.h).
   if (!twoSided && reflectsOnly) xml.warn(n, "one-sided in Mitsuba (black from the back); rendered two-sided");
   p.finish();

@@ -74,10 +74,12 @@ MitsubaImport Translator::run() {
     if (name.empty() || !d.attribute("value")) xml_.fail(d, "name", "a <default> needs a name and a value");
     xml_.addDefault(name, d.attribute("value").value());
   }
+  // Textures are read where a BSDF refers to them (bsdfs.cpp).
+  for (pugi::xml_node t : scene.children("texture")) registerId(t);
   for (pugi::xml_node c : scene.children()) {
     if (!isElement(c)) continue;
     std::string tag = c.name();
-    if (tag == "default") continue;  // read above
+    if (tag == "default" || tag == "texture") continue;  // read above, or where referred to
     if (tag == "integrator") readIntegrator(c);
     else if (tag == "sensor") readSensor(c);
     else if (tag == "bsdf") readBsdf(c);
@@ -130,7 +132,7 @@ std::string Translator::readBsdf(pugi::xml_node n) {
     if (nested.size() > 1) xml_.warn(nested[1], "a twosided BSDF's back-side BSDF is not supported; the front one is used on both sides");
     inner = nested[0];
   }
-  materials_[name] = translateBsdf(xml_, inner, twoSided);
+  materials_[name] = translateBsdf(xml_, inner, twoSided, ids_);
   origin("materials." + name, inner);
   if (!id.empty()) bsdfMaterial_[id] = name;
   return name;
@@ -143,11 +145,12 @@ void Translator::readShape(pugi::xml_node n) {
   YAML::Node s(YAML::NodeType::Map);
   glm::dmat4 m = p.getTransform("to_world");
   bool flip = p.getBool("flip_normals", false);
-  if (type == "rectangle" || type == "cube") {
+  if (type == "rectangle" || type == "cube" || type == "disk") {
     // The same canonical shapes as lightbench's: [-1,1]² at z = 0 facing +z,
     // and [-1,1]³. A mirroring transform turns a triangle's winding (our
     // normal) but not Mitsuba's normal (M^-T n): flipped back here.
-    s["type"] = type == "cube" ? "box" : "rectangle";
+    s["type"] = type == "cube" ? "box" : type;
+    if (type == "disk") xml_.warn(n, "disk approximated as a regular 256-sided polygon (area 0.01 % smaller)");
     YAML::Node t(YAML::NodeType::Map);
     t["matrix"] = rowMajor(m);
     s["transform"] = t;
@@ -174,7 +177,8 @@ void Translator::readShape(pugi::xml_node n) {
     if (p.getBool("face_normals", false)) s["face_normals"] = true;
     else s["smooth_normals"] = true;
     if (flip) s["flip_normals"] = true;
-    if (type == "obj" && p.has("flip_tex_coords")) p.getBool("flip_tex_coords", true);  // uvs: no textures yet
+    if (type == "obj" && !p.getBool("flip_tex_coords", true))
+      xml_.warn(n, "flip_tex_coords false is not supported; texture coordinates are flipped (v = 1 - v), Mitsuba's default");
   } else {
     xml_.warn(n, "shape '" + type + "' not supported yet; dropped");
     p.takeAll();
@@ -259,6 +263,39 @@ void Translator::readEmitter(pugi::xml_node n) {
   } else if (type == "constant") {
     l["type"] = "environment";
     l["radiance"] = flowVec(p.getColor("radiance", glm::dvec3(1.0)));
+  } else if (type == "envmap") {
+    // The same lat-long convention as lightbench's map (+y up, u = 0 along
+    // −z, v = 0 at the top row: environment_map_light.h); to_world turns it.
+    std::string file = p.getString("filename", "");
+    std::string ext = file.size() >= 4 ? file.substr(file.size() - 4) : "";
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr") {
+      xml_.warn(n, "envmap '" + file + "': lightbench reads OpenEXR maps only (convert it to .exr); the emitter is dropped");
+      p.takeAll();
+      p.finish();
+      return;
+    }
+    l["type"] = "environment";
+    l["file"] = file;
+    l["scale"] = p.getFloat("scale", 1.0);
+    glm::dmat3 r(p.getTransform("to_world"));
+    glm::dmat3 e = glm::transpose(r) * r - glm::dmat3(1.0);
+    double worst = 0;
+    for (int i = 0; i < 3; ++i) worst = std::max({worst, std::abs(e[i].x), std::abs(e[i].y), std::abs(e[i].z)});
+    if (!(worst < 1e-4)) xml_.fail(n, "to_world", "an envmap's to_world must be a rotation (no scale or shear)");
+    YAML::Node rows(YAML::NodeType::Sequence);
+    rows.SetStyle(YAML::EmitterStyle::Flow);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) rows.push_back(r[col][row]);
+    l["rotation"] = rows;
+    xml_.warn(n, "envmap texels are looked up nearest, not bilinearly as in Mitsuba (sampling then follows the map exactly)");
+    if (xml_.oldDialect) {
+      double gamma = p.getFloat("gamma", 0);
+      if (gamma != 0 && gamma != 1) xml_.warn(n, "envmap gamma is not supported for EXR maps; the file's linear values are used");
+      p.getFloat("sampling_weight", 1);
+      p.getBool("cache", false);
+    }
+    p.getBool("mis_compensation", false);  // how it samples, not what it estimates
   } else if (type == "directional") {
     glm::dmat4 m = p.getTransform("to_world");
     glm::dvec3 direction = p.has("direction") ? p.getPoint("direction", {}) : glm::dvec3(m * glm::dvec4(0, 0, 1, 0));

@@ -28,6 +28,13 @@ void Translator::readIntegrator(pugi::xml_node n) {
   }
   integ["max_depth"] = depth;
   out_.sharedIntegratorKeys.push_back("max_depth");
+  if (type == "sppm") {
+    // Mitsuba's SPPM settings have direct counterparts (Hachisuka & Jensen
+    // 2009: photons per pass, initial radius, radius reduction alpha).
+    if (p.has("photon_count")) integ["photons_per_pass"] = p.getInt("photon_count", 0);
+    if (p.has("initial_radius")) integ["initial_radius"] = p.getFloat("initial_radius", 0);
+    if (p.has("alpha")) integ["alpha"] = p.getFloat("alpha", 0);
+  }
   if (it == names.end()) {
     // Its max_depth still defines the integral the scene asks for.
     xml_.warn(n, "integrator '" + type + "' has no lightbench counterpart; path is the default (--integrator chooses), its max_depth is kept");

@@ -110,7 +110,7 @@ TEST(MitsubaImport, FovAxisMatchesMitsubasDefinition) {
 }
 
 TEST(MitsubaImport, BothCornellBoxDialectsGiveTheSameSceneAndSayWhatTheyApproximate) {
-  MitsubaImport v3 = importMitsubaXml(sourcePath("scenes/external/cornell-box/scene_v3.xml"));
+  MitsubaImport v3 = importMitsubaXml(sourcePath("scenes/external/cornell-box/scene.xml"));
   MitsubaImport v06 = importMitsubaXml(sourcePath("scenes/external/cornell-box/scene_v0.6.xml"));
   ASSERT_EQ(v3.scene["shapes"].size(), 8u);
   ASSERT_EQ(v06.scene["shapes"].size(), 8u);
@@ -140,14 +140,14 @@ const ImportWarning* findWarning(const MitsubaImport& imp, const std::string& ph
 }
 
 TEST(MitsubaImport, EachKindOfUnsupportedElementIsWarnedOnceWithAllItsLines) {
-  MitsubaImport imp = import(xmlScene("<shape type=\"disk\"/>\n<shape type=\"disk\"/>\n<shape type=\"disk\"/>\n"
-                                      "<bsdf type=\"roughplastic\" id=\"p\"/>\n"
+  MitsubaImport imp = import(xmlScene("<shape type=\"linearcurve\"/>\n<shape type=\"linearcurve\"/>\n<shape type=\"linearcurve\"/>\n"
+                                      "<bsdf type=\"principled\" id=\"p\"/>\n"
                                       "<shape type=\"sphere\"><float name=\"frobnicate\" value=\"1\"/><ref id=\"p\"/></shape>\n"));
   std::string all;
   for (const ImportWarning& w : imp.warnings) all += w.text("test.xml") + "\n";
-  // The three disks, the plastic, the unknown property, and no <integrator> (line 1).
+  // The three curves, the principled BSDF, the unknown property, and no <integrator> (line 1).
   ASSERT_EQ(imp.warnings.size(), 4u) << all;
-  const ImportWarning* disk = findWarning(imp, "shape 'disk'");
+  const ImportWarning* disk = findWarning(imp, "shape 'linearcurve'");
   ASSERT_TRUE(disk) << all;
   EXPECT_EQ(disk->line, 4);
   EXPECT_NE(disk->message.find("(also lines 5, 6)"), std::string::npos) << all;
@@ -212,7 +212,7 @@ TEST(MitsubaImport, StrictTurnsTheFirstWarningIntoAnError) {
 // A 5 % error in the emitted radiance fails it (tried: z up to 11).
 TEST(MitsubaImport, ImportedCornellBoxMatchesTheHandWrittenOne) {
   YAML::Node size = YAML::Load("{film: {width: 24, height: 24}}");
-  SceneFile imported = loadScene(sourcePath("scenes/external/cornell-box/scene_v3.xml"), size);
+  SceneFile imported = loadScene(sourcePath("scenes/external/cornell-box/scene.xml"), size);
   SceneFile written = loadScene(sourcePath("tests/data/bitterli-cornell-box.yaml"), size);
   test::RenderSpec spec;
   spec.params = "{max_depth: 8}";
@@ -306,11 +306,11 @@ void expectPathAndBdptAgree(const std::string& scene, int width, int height, uin
 }
 
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachMisScene) {
-  expectPathAndBdptAgree("scenes/external/veach-mis/scene_v3.xml", 32, 18, 1024);
+  expectPathAndBdptAgree("scenes/external/veach-mis/scene.xml", 32, 18, 1024);
 }
 
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachBidirScene) {
-  expectPathAndBdptAgree("scenes/external/veach-bidir/scene_v3.xml", 24, 24, 16384);
+  expectPathAndBdptAgree("scenes/external/veach-bidir/scene.xml", 24, 24, 16384);
 }
 
 }  // namespace
