@@ -167,7 +167,7 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided,
       continue;
     }
     YAML::Node t = translateTexture(xml, node, ids);
-    if (!t) continue;
+    if (!t || t.IsNull()) continue;  // unsupported: warned, dropped
     m["texture"] = t;
     m[m["type"].as<std::string>() == "conductor" ? "tint" : "albedo"] = 1.0;  // the texture is the whole colour
   }
