@@ -438,7 +438,8 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
     throw ConfigError(path, w.line, w.element, w.message + " (--strict; " + std::to_string(imp.warnings.size()) +
                                                    " unsupported item(s) in all)");
   }
-  for (const ImportWarning& w : imp.warnings) warn(w.text(path));
+  if (!options.quiet)
+    for (const ImportWarning& w : imp.warnings) warn(w.text(path));
   YAML::Node description = YAML::Clone(imp.scene);
   // Not a clone: cloned nodes claim line 1, and errors found in the
   // translation must fall through to the XML lines below.
@@ -470,6 +471,16 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
 }  // namespace
 
 SceneFile loadScene(const std::string& path) { return loadScene(path, YAML::Node()); }
+
+YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params) {
+  YAML::Node out(YAML::NodeType::Map);
+  if (params && params.IsMap())
+    for (auto it = params.begin(); it != params.end(); ++it) out[it->first] = it->second;
+  if (scene.integrator && scene.integrator.IsMap())
+    for (const std::string& key : scene.sharedIntegratorKeys)
+      if (!out[key] && scene.integrator[key]) out[key] = scene.integrator[key];
+  return out;
+}
 
 SceneFile loadScene(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options) {
   if (isMitsubaXmlPath(path)) return loadImported(path, overrides, options);

@@ -27,7 +27,14 @@ struct SceneFile {
 
 struct SceneLoadOptions {
   bool strict = false;  // an unsupported element of an imported scene is an error, not a warning
+  bool quiet = false;   // an imported scene's warnings are not printed (an earlier load printed them)
 };
+
+// An integrator's parameters for rendering `scene`: `params`, plus the scene's
+// shared integrator keys (an imported scene's max_depth) that `params` does
+// not set itself. Entries are shared with `params`, not cloned (errors keep
+// their lines).
+YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params);
 
 SceneFile loadScene(const std::string& path);
 // The same with top-level keys replaced (e.g. `film: {width: 64, height: 64}`);

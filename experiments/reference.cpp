@@ -63,9 +63,17 @@ std::string referenceKey(const ExperimentScene& s) {
   f.add(readBytes(scene));
   YAML::Node root = loadSceneDescription(scene);
   std::string folder = std::filesystem::path(scene).parent_path().string();
-  if (root["shapes"] && root["shapes"].IsSequence())
-    for (const auto& shape : root["shapes"])
-      if (shape.IsMap() && shape["file"]) f.add(readBytes((std::filesystem::path(folder) / shape["file"].as<std::string>()).string()));
+  // Every file the scene reads: meshes, environment maps, textures.
+  auto addFile = [&](const YAML::Node& n) {
+    if (n.IsMap() && n["file"] && n["file"].IsScalar())
+      f.add(readBytes((std::filesystem::path(folder) / n["file"].as<std::string>()).string()));
+  };
+  for (const char* list : {"shapes", "lights"})
+    if (root[list] && root[list].IsSequence())
+      for (const auto& item : root[list]) addFile(item);
+  if (root["materials"] && root["materials"].IsMap())
+    for (const auto& m : root["materials"])
+      if (m.second.IsMap() && m.second["texture"]) addFile(m.second["texture"]);
   f.add(flowYaml(referenceOverrides(s)));
   f.add(s.reference.integrator);
   f.add(flowYaml(s.reference.params));
@@ -177,7 +185,9 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   std::string stem = referenceName(s) + "-" + key;
   CachePaths cache{dir / (stem + ".exr"), dir / (stem + ".variance.exr"), dir / (stem + ".yaml")};
 
-  SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s));
+  SceneLoadOptions quiet;
+  quiet.quiet = true;  // validateExperiment printed the scene's import warnings
+  SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s), quiet);
   const int width = sf.scene->camera.width(), height = sf.scene->camera.height();
   ChunkAccumulator acc(width, height);
   double seconds = 0;
@@ -239,7 +249,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     // consistent one (allowed with allow_biased_reference) each chunk is its
     // own chunk_spp-pass render, so its bias is that of chunk_spp passes,
     // however many chunks are averaged.
-    Params params(spec.params, s.path, "reference.params");
+    Params params(withSharedIntegratorKeys(sf, spec.params), s.path, "reference.params");
     auto integrator = makeIntegrator(spec.integrator, params);
     Film film(width, height);
     RenderOptions options;

@@ -322,7 +322,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     const Configuration& c = e.configurations[t.config];
     const Image& ref = references[t.scene];
     const Scene& scene = *scenes[t.scene].scene;
-    Params params(c.params, e.file, c.context);
+    // An imported scene's max_depth holds for every configuration (the integral it defines).
+    Params params(withSharedIntegratorKeys(scenes[t.scene], c.params), e.file, c.context);
     auto integrator = makeIntegrator(c.integrator, params);
     Film film(scene.camera.width(), scene.camera.height());
     uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
