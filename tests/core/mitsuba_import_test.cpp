@@ -315,3 +315,21 @@ TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachBidirScene) {
 
 }  // namespace
 }  // namespace lb
+
+namespace lb {
+namespace {
+
+// An experiment's configurations and references render an imported scene
+// with its max_depth (the integral the file defines) unless they set their own.
+TEST(MitsubaImport, TheFilesMaxDepthHoldsForEveryIntegratorUnlessOverridden) {
+  SceneLoadOptions quiet;
+  quiet.quiet = true;
+  SceneFile sf = loadScene(test::sourcePath("scenes/external/veach-mis/scene.xml"), YAML::Node(), quiet);
+  YAML::Node none = withSharedIntegratorKeys(sf, YAML::Load("{mis: balance}"));
+  EXPECT_EQ(none["max_depth"].as<int>(), 3);
+  EXPECT_EQ(none["mis"].as<std::string>(), "balance");
+  EXPECT_EQ(withSharedIntegratorKeys(sf, YAML::Load("{max_depth: 5}"))["max_depth"].as<int>(), 5);
+}
+
+}  // namespace
+}  // namespace lb

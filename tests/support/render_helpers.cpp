@@ -9,6 +9,17 @@ namespace lb::test {
 std::string sourcePath(const std::string& relative) { return std::string(LIGHTBENCH_SOURCE_DIR) + "/" + relative; }
 
 SceneFile loadShippedScene(const std::string& name, int width, int height, const std::string& extraYaml) {
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".xml") == 0) {
+    // An imported scene (scenes/external/…): resized and varied through the
+    // loader's overrides, as an experiment does.
+    YAML::Node overrides = YAML::Load(extraYaml);
+    if (!overrides.IsMap()) overrides = YAML::Node(YAML::NodeType::Map);
+    overrides["film"]["width"] = width;
+    overrides["film"]["height"] = height;
+    SceneLoadOptions quiet;
+    quiet.quiet = true;
+    return loadScene(sourcePath("scenes/" + name), overrides, quiet);
+  }
   std::string path = sourcePath("scenes/" + name + ".yaml");
   YAML::Node root = loadYamlFile(path);
   root["film"]["width"] = width;
