@@ -289,9 +289,7 @@ TEST(MitsubaImport, EmittersBecomeLightsWithMitsubasDefaults) {
 // at 2048 spp its mean and its variance were both low there (z = -5.5 in
 // the top-right region, gone at 8x the samples and another seed), so the
 // z-test's normal approximation needs the sample counts below.
-void expectPathAndBdptAgree(const std::string& scene, int width, int height, uint64_t spp) {
-  YAML::Node size = YAML::Load("{film: {width: " + std::to_string(width) + ", height: " + std::to_string(height) + "}}");
-  SceneFile sf = loadScene(sourcePath(scene), size);
+void expectPathAndBdptAgree(const SceneFile& sf, const std::string& scene, uint64_t spp) {
   test::RenderSpec spec;
   spec.params = "{max_depth: " + sf.integrator["max_depth"].as<std::string>() + "}";
   spec.spp = spp;
@@ -305,12 +303,50 @@ void expectPathAndBdptAgree(const std::string& scene, int width, int height, uin
   EXPECT_TRUE(failures.empty()) << scene << "\n" << failures;
 }
 
+void expectPathAndBdptAgree(const std::string& scene, int width, int height, uint64_t spp) {
+  YAML::Node size = YAML::Load("{film: {width: " + std::to_string(width) + ", height: " + std::to_string(height) + "}}");
+  expectPathAndBdptAgree(loadScene(sourcePath(scene), size), scene, spp);
+}
+
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachMisScene) {
   expectPathAndBdptAgree("scenes/external/veach-mis/scene.xml", 32, 18, 1024);
 }
 
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachBidirScene) {
   expectPathAndBdptAgree("scenes/external/veach-bidir/scene.xml", 24, 24, 16384);
+}
+
+// water-caustic's light is 5 × 4 mm: both estimators find the caustic seen
+// through the water (L S D S E) only by a camera path that refracts onto
+// the light, so both are heavy-tailed there and the z-test's normal
+// approximation fails. As for the water pool (consistent_scenes_test.cpp),
+// the light is made 20 × larger each way at the same power: the same paths,
+// found often enough to converge. Everything else is the imported scene.
+// Even so the regions under the water stay noisy (relative sd of a region's
+// mean 9-12 % for path, 14-19 % for BDPT at 16384 spp, measured): this
+// catches a lost or doubled term, not 5 % (BDPT's light scaled by 1.05
+// passed at 16384 spp, checked once).
+TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedWaterCausticWithALargerLight) {
+  std::string path = sourcePath("scenes/external/water-caustic/scene.xml");
+  MitsubaImport imp = importMitsubaXml(path);
+  YAML::Node root = imp.scene;
+  int lights = 0;
+  for (YAML::Node shape : root["shapes"]) {
+    if (!shape["emission"]) continue;
+    ++lights;
+    YAML::Node m = shape["transform"]["matrix"];
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) m[4 * row + col] = m[4 * row + col].as<double>() * 20;  // rectangle's x, y (and z)
+    YAML::Node e = shape["emission"];
+    for (size_t c = 0; c < e.size(); ++c) e[c] = e[c].as<double>() / 400;
+  }
+  ASSERT_EQ(lights, 1);
+  root["film"]["width"] = 24;
+  root["film"]["height"] = 24;
+  YAML::Emitter out;
+  out << root;
+  // Named as the scene file, so that its meshes resolve beside it.
+  expectPathAndBdptAgree(loadSceneFromString(out.c_str(), path), "water-caustic, larger light", 4096);
 }
 
 }  // namespace
