@@ -19,13 +19,18 @@ size_t transformMesh(TriangleMesh& m, const Mat4& toWorld) {
   for (auto& p : m.positions) p = Vec3(toWorld * glm::vec4(p, 1.f));
   for (auto& n : m.normals) n = glm::normalize(normalMatrix * n);
   std::vector<glm::uvec3> kept;
+  std::vector<int> keptGroups;
   kept.reserve(m.triangles.size());
-  for (const auto& t : m.triangles) {
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const auto& t = m.triangles[i];
     Vec3 e = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
-    if (glm::dot(e, e) > 0 && std::isfinite(glm::dot(e, e))) kept.push_back(t);
+    if (!(glm::dot(e, e) > 0 && std::isfinite(glm::dot(e, e)))) continue;
+    kept.push_back(t);
+    if (!m.triangleGroups.empty()) keptGroups.push_back(m.triangleGroups[i]);
   }
   size_t dropped = m.triangles.size() - kept.size();
   m.triangles = std::move(kept);
+  if (!m.triangleGroups.empty()) m.triangleGroups = std::move(keptGroups);
   return dropped;
 }
 
@@ -51,8 +56,9 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
   if (std::filesystem::file_size(path, ec) == 0) throw std::runtime_error(path + ": file is empty");
   if (!std::ifstream(path)) throw std::runtime_error(path + ": cannot open the file (permissions?)");
   // OpenMesh trusts its input (see mesh_validation.h): check the structure first.
+  ObjFaceGroups groups;
   if (ext == ".ply") validatePlyFile(path);
-  else validateObjFile(path);
+  else groups = validateObjFile(path);
   silenceOpenMesh();
   OMesh om;
   om.request_vertex_normals();
@@ -91,6 +97,22 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
     std::vector<unsigned> idx;
     for (auto v : om.fv_range(f)) idx.push_back(unsigned(v.idx()));
     if (idx.size() == 3) m.triangles.emplace_back(idx[0], idx[1], idx[2]);
+  }
+  // Groups by position: OpenMesh adds the faces in file order, an n-gon as
+  // n − 2 consecutive triangles. A face it refused (non-manifold, repeated
+  // vertices) shifts every later one, so then the groups are not matched.
+  if (groups.names.size() > 1) {
+    m.groupNames = groups.names;
+    size_t expected = 0;
+    for (int n : groups.faceVertices) expected += size_t(n - 2);
+    if (expected != m.triangles.size()) {
+      m.groupsUnmatched = "OpenMesh kept " + std::to_string(m.triangles.size()) + " of its " + std::to_string(expected) +
+                          " triangles (it refuses non-manifold faces and faces with repeated vertices), so its usemtl "
+                          "groups cannot be matched to faces";
+    } else {
+      for (size_t f = 0; f < groups.faceGroup.size(); ++f)
+        m.triangleGroups.insert(m.triangleGroups.end(), size_t(groups.faceVertices[f] - 2), groups.faceGroup[f]);
+    }
   }
   result.degenerateTriangles = transformMesh(m, toWorld);
   return result;

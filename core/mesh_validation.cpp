@@ -8,6 +8,7 @@
 // token must resolve, and every v/vt/vn line must parse (a line that does not
 // is counted by one pass but not stored by the other, shifting indices).
 #include "core/mesh_validation.h"
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -138,10 +139,12 @@ void checkMaterialLibrary(const std::string& path, uint64_t line, const std::str
 }
 }  // namespace
 
-void validateObjFile(const std::string& path) {
+ObjFaceGroups validateObjFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) failAt(path, 0, "cannot open mesh file");
   ObjCounts n;
+  ObjFaceGroups groups;
+  int current = -1;
   std::string raw;
   for (uint64_t line = 1; std::getline(in, raw); ++line) {
     std::string trimmed = trimObjLine(raw);
@@ -161,12 +164,24 @@ void validateObjFile(const std::string& path) {
     } else if (key == "f") {
       checkObjFace(path, line, tokens, n);
       ++n.faces;
+      if (current < 0) {
+        groups.names.push_back("");
+        current = int(groups.names.size()) - 1;
+      }
+      groups.faceGroup.push_back(current);
+      groups.faceVertices.push_back(int(tokens.size()) - 1);
+    } else if (key == "usemtl") {
+      std::string name = tokens.size() > 1 ? tokens[1] : "";
+      auto it = std::find(groups.names.begin(), groups.names.end(), name);
+      current = int(it - groups.names.begin());
+      if (it == groups.names.end()) groups.names.push_back(name);
     } else if (key == "mtllib") {
       checkMaterialLibrary(path, line, trimmed);
     }
   }
   if (in.bad()) failAt(path, 0, "read error");
   if (n.faces == 0) failAt(path, 0, "no faces (no 'f' lines; " + std::to_string(n.positions) + " vertices)");
+  return groups;
 }
 
 }  // namespace lb

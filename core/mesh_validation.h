@@ -12,10 +12,19 @@
 // "PATH:LINE: what is wrong" (or "PATH: byte OFFSET: ..." for binary PLY data).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace lb {
 
-void validateObjFile(const std::string& path);
+// The `usemtl` group of every face of an OBJ file, in file order: what
+// per-group materials need (OpenMesh reads the faces but not their groups).
+struct ObjFaceGroups {
+  std::vector<std::string> names;  // in order of first use; "" for faces before any usemtl
+  std::vector<int> faceGroup;      // per `f` line: index into names
+  std::vector<int> faceVertices;   // per `f` line: its vertex count (n − 2 triangles)
+};
+
+ObjFaceGroups validateObjFile(const std::string& path);
 void validatePlyFile(const std::string& path);
 
 namespace meshcheck {

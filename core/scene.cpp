@@ -161,7 +161,8 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
   const Shape& shape = shapes_[rh.hit.geomID];
   shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
   si.shapeId = int(rh.hit.geomID);
-  si.material = shape.materialId >= 0 ? materials_[size_t(shape.materialId)].get() : nullptr;
+  int material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
+  si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
   si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
   return true;
 }

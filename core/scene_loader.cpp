@@ -127,21 +127,21 @@ TriangleMesh boxMesh() {
 
 void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box", "disk"});
-  int material = ctx.defaultMaterial;
-  if (p.has("material")) {
-    std::string name = p.getString("material", "");
-    if (name == "none") material = -1;
-    else {
-      auto it = ctx.materials.find(name);
-      if (it == ctx.materials.end()) {
-        std::vector<std::string> names;
-        for (auto& kv : ctx.materials) names.push_back(kv.first);
-        std::string hint = closestMatch(name, names);
-        p.fail("material", "unknown material '" + name + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
-      }
-      material = it->second;
+  // A material by name ("none": an absorber), else an error at `key` of `at`.
+  auto materialNamed = [&](Params& at, const std::string& key, const std::string& name) {
+    if (name == "none") return -1;
+    auto it = ctx.materials.find(name);
+    if (it == ctx.materials.end()) {
+      std::vector<std::string> names;
+      for (auto& kv : ctx.materials) names.push_back(kv.first);
+      std::string hint = closestMatch(name, names);
+      at.fail(key, "unknown material '" + name + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
     }
-  }
+    return it->second;
+  };
+  int material = ctx.defaultMaterial;
+  if (p.has("material")) material = materialNamed(p, "material", p.getString("material", ""));
+  std::vector<int> triangleMaterials;
   Emission emission;
   emission.radiance = p.getColor("emission", Color(0.f));
   if (glm::any(glm::lessThan(emission.radiance, Color(0.f)))) p.fail("emission", "must not be negative");
@@ -184,6 +184,24 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       } catch (const std::runtime_error& e) {
         p.fail("file", e.what());
       }
+      // Per-group materials: `materials: {usemtl name: material}`; groups not
+      // named take `material` (one mesh, several materials, no splitting).
+      if (auto groups = p.getChild("materials")) {
+        if (mesh.groupNames.size() < 2)
+          p.fail("materials", "the file has no usemtl groups to give materials to (use material)");
+        if (!mesh.groupsUnmatched.empty()) p.fail("materials", mesh.groupsUnmatched);
+        std::vector<int> byGroup(mesh.groupNames.size(), material);
+        for (auto it = groups->node().begin(); it != groups->node().end(); ++it) {
+          std::string group = it->first.as<std::string>();
+          auto g = std::find(mesh.groupNames.begin(), mesh.groupNames.end(), group);
+          if (g == mesh.groupNames.end()) {
+            std::string hint = closestMatch(group, mesh.groupNames);
+            groups->fail(group, "no usemtl group '" + group + "' in " + file + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+          }
+          byGroup[size_t(g - mesh.groupNames.begin())] = materialNamed(*groups, group, groups->getString(group, ""));
+        }
+        for (int g : mesh.triangleGroups) triangleMaterials.push_back(byGroup[size_t(g)]);
+      }
     } else {
       if (type == "disk") {
         int segments = p.getInt("segments", 256);
@@ -214,6 +232,7 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");
   p.checkUnused();
   shape.materialId = material;
+  shape.triangleMaterials = std::move(triangleMaterials);
   scene.addShape(std::move(shape), emission);
 }
 

@@ -2,6 +2,7 @@
 // Shapes: triangle meshes (rectangles, boxes and mesh files become meshes) and
 // exact spheres. A shape knows its area and samples points uniformly by area;
 // spheres also sample the cone of directions they subtend (solid angle).
+#include <string>
 #include <vector>
 #include "core/interaction.h"
 #include "core/sampling.h"
@@ -13,6 +14,11 @@ struct TriangleMesh {
   std::vector<Vec3> normals;      // per vertex, world space; empty if none
   std::vector<Vec2> uvs;          // per vertex; empty if none
   std::vector<glm::uvec3> triangles;
+  // Per triangle, its group in the file (an OBJ's usemtl), for per-group
+  // materials; empty when the file has one group or they could not be matched.
+  std::vector<int> triangleGroups;
+  std::vector<std::string> groupNames;
+  std::string groupsUnmatched;  // why triangleGroups is empty despite several groups, or ""
 };
 
 struct Sphere {
@@ -47,6 +53,7 @@ class Shape {
   void fillInteraction(const Ray& ray, float t, int prim, float u, float v, SurfaceInteraction& si) const;
 
   int materialId = -1;
+  std::vector<int> triangleMaterials;  // per triangle (per-group materials), else empty: materialId
   int lightId = -1;
 
  private:
