@@ -220,7 +220,11 @@ Image readPng(const std::string& path, bool srgbDecode) {
     png_image_free(&png);
     throw std::runtime_error("cannot read " + path + ": larger than the 8192 x 8192 pixels lightbench reads");
   }
-  png.format = PNG_FORMAT_RGB;
+  // A 16-bit file is reduced to 8 bits without a gamma change (libpng would
+  // otherwise take it as linear and encode it), and alpha is read and
+  // dropped rather than composited onto black: Mitsuba's reading of both.
+  png.flags |= PNG_IMAGE_FLAG_16BIT_sRGB;
+  png.format = PNG_FORMAT_RGBA;
   std::vector<unsigned char> bytes(PNG_IMAGE_SIZE(png));
   if (!png_image_finish_read(&png, nullptr, bytes.data(), 0, nullptr)) {
     std::string why = png.message;
@@ -235,7 +239,7 @@ Image readPng(const std::string& path, bool srgbDecode) {
   }
   Image image(int(png.width), int(png.height));
   for (size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = Color(lut[bytes[3 * i]], lut[bytes[3 * i + 1]], lut[bytes[3 * i + 2]]);
+    image.pixels[i] = Color(lut[bytes[4 * i]], lut[bytes[4 * i + 1]], lut[bytes[4 * i + 2]]);
   return image;
 }
 

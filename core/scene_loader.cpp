@@ -201,6 +201,9 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
           byGroup[size_t(g - mesh.groupNames.begin())] = materialNamed(*groups, group, groups->getString(group, ""));
         }
         for (int g : mesh.triangleGroups) triangleMaterials.push_back(byGroup[size_t(g)]);
+        if (triangleMaterials.size() != mesh.triangles.size())
+          p.fail("materials", "internal: " + std::to_string(triangleMaterials.size()) + " group entries for " +
+                                  std::to_string(mesh.triangles.size()) + " triangles");
       }
     } else {
       if (type == "disk") {

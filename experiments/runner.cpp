@@ -317,13 +317,20 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::mutex progressMutex;
   auto experimentStart = Clock::now();
 
+  // Each configuration's parameters for each scene (an imported scene's
+  // max_depth added), built here: merging YAML nodes writes to both sides,
+  // so the workers below must only read them.
+  std::vector<std::vector<YAML::Node>> runParams(e.scenes.size());
+  for (size_t si = 0; si < e.scenes.size(); ++si)
+    for (const Configuration& c : e.configurations) runParams[si].push_back(withSharedIntegratorKeys(scenes[si], c.params));
+
   auto runOne = [&](const RunTask& t) {
     const ExperimentScene& es = e.scenes[t.scene];
     const Configuration& c = e.configurations[t.config];
     const Image& ref = references[t.scene];
     const Scene& scene = *scenes[t.scene].scene;
     // An imported scene's max_depth holds for every configuration (the integral it defines).
-    Params params(withSharedIntegratorKeys(scenes[t.scene], c.params), e.file, c.context);
+    Params params(runParams[t.scene][t.config], e.file, c.context);
     auto integrator = makeIntegrator(c.integrator, params);
     Film film(scene.camera.width(), scene.camera.height());
     uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;

@@ -150,9 +150,7 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided,
     m["type"] = "diffuse";
     m["albedo"] = flowVec(p.getColor("diffuse_reflectance", glm::dvec3(0.5)));
     textured = "diffuse_reflectance";
-    for (const char* k : {"int_ior", "ext_ior", "specular_reflectance", "nonlinear", "distribution", "alpha", "sample_visible"})
-      p.getText(k, "");
-    p.takeAll();
+    p.takeAll();  // the coating's properties: said dropped above
   } else {
     xml.warn(n, "BSDF '" + type + "' not supported yet; approximated as diffuse with reflectance 0.5");
     p.takeAll();

@@ -165,6 +165,10 @@ void Translator::readShape(pugi::xml_node n) {
     s["center"] = flowVec(glm::dvec3(m * glm::dvec4(center, 1)));
     s["radius"] = radius * sx;
     if (flip) s["flip_normals"] = true;
+    // lightbench's sphere has no frame of its own: its uv is about world z.
+    glm::dmat3 r = glm::dmat3(m) / sx;
+    if (glm::length(r[0] - glm::dvec3(1, 0, 0)) + glm::length(r[1] - glm::dvec3(0, 1, 0)) > 1e-6)
+      xml_.warn(n, "a sphere's rotation is dropped (its shape is unchanged; a texture on it is laid out about world z)");
   } else if (type == "obj" || type == "ply") {
     // Mitsuba's face_normals: flat shading; otherwise the file's vertex
     // normals, or smooth ones computed when the file has none.

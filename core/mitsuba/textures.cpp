@@ -53,7 +53,7 @@ YAML::Node bitmap(XmlContext& xml, Props& p, pugi::xml_node n) {
     std::string mode = p.getString(wrap, "repeat");
     if (mode != "repeat") xml.warn(n, std::string(wrap) + " '" + mode + "' is not supported; approximated as repeat");
   }
-  for (const char* ignored : {"format", "accel", "cache", "max_anisotropy"}) p.getText(ignored, "");  // how, not what
+  for (const char* how : {"format", "accel", "cache", "max_anisotropy"}) p.ignore(how);  // how it is stored, not what
   t["uv_transform"] = uvTransform(xml, p);
   return t;
 }

@@ -72,6 +72,8 @@ class Props {
   glm::dmat4 getTransform(const std::string& name);
   // Marks every property read, for an element the caller has warned about as a whole.
   void takeAll();
+  // Marks one property read whatever its type (settings of how, not what).
+  void ignore(const std::string& name) { used_.insert(name); }
   void finish();
 
   std::vector<pugi::xml_node> objects;

@@ -45,6 +45,7 @@ Color CheckerboardTexture::lookup(Vec2 uv) const {
 }
 
 std::shared_ptr<const Texture> makeTexture(Params& p, const std::string& folder) {
+  if (!p.has("type")) p.fail("type", "is required (image or checkerboard)");
   std::string type = p.getChoice("type", "", {"image", "checkerboard"});
   std::array<float, 6> m = {1, 0, 0, 0, 1, 0};
   if (p.has("uv_transform")) {

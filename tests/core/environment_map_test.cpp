@@ -170,3 +170,29 @@ TEST(EnvironmentMap, PathBdptAndLightTracingAgreeOnAGlossyObject) {
 
 }  // namespace
 }  // namespace lb::test
+
+namespace lb::test {
+namespace {
+
+// The map's orientation, pinned to Mitsuba's envmap (direction d in the map's
+// frame ↦ u = atan2(d.x, −d.z)/2π, v = acos(d.y)/π, row 0 at the top) and to
+// to_world turning the map's frame into the world's: one lit texel, looked
+// for where the formula puts it and not where the inverse rotation would.
+TEST(EnvironmentMap, OneLitTexelShinesFromWhereMitsubaPutsIt) {
+  const int w = 16, h = 8, tx = 4, ty = 2;  // u = 0.28125, v = 0.3125
+  Image map(w, h);
+  map.at(tx, ty) = Color(1.f);
+  const double u = (tx + 0.5) / w, v = (ty + 0.5) / h, phi = 2 * Pi * u, theta = Pi * v;
+  // Inverting u = atan2(x, −z)/2π, v = acos(y)/π by hand.
+  const Vec3 dMap(float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)), float(-std::sin(theta) * std::cos(phi)));
+  EnvironmentMapLight unrotated(map, 1.f, Mat3(1.f), true);
+  EXPECT_EQ(unrotated.Le(dMap).r, 1.f);
+  EXPECT_EQ(unrotated.Le(Vec3(dMap.x, dMap.y, -dMap.z)).r, 0.f);  // mirrored front to back: another texel
+  const Mat3 r = rotation(90.f, Vec3(0, 1, 0));
+  EnvironmentMapLight turned(map, 1.f, r, true);
+  EXPECT_EQ(turned.Le(r * dMap).r, 1.f);
+  EXPECT_EQ(turned.Le(glm::transpose(r) * dMap).r, 0.f);
+}
+
+}  // namespace
+}  // namespace lb::test

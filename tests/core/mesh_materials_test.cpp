@@ -66,6 +66,24 @@ TEST_F(MeshMaterials, EachGroupHasItsMaterialAndTheRestTheShapes) {
   EXPECT_NEAR(first->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), TransportMode::Radiance).f.g, 0.5f / Pi, 1e-6);
 }
 
+TEST_F(MeshMaterials, DroppedDegenerateTrianglesKeepTheGroupsInStep) {
+  // A zero-area face first (dropped after loading) must not shift the others.
+  SceneFile f = [&] {
+    std::ofstream out(dir_ / "groups.obj");
+    out << "v 7 0 0\nv 8 0 0\nv 9 0 0\nusemtl flat\nf 1 2 3\n";
+    // kObj's vertex indices moved by the three new vertices.
+    out << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 3 1 0\nv 2 1 0\nv 4 0 0\nv 5 0 0\nv 4 1 0\n"
+           "usemtl none\nf 4 5 6\nusemtl red\nf 7 8 9 10\nusemtl blue\nf 11 12 13\n";
+    out.close();
+    return load("material: grey, materials: {red: r, blue: b}");
+  }();
+  const Material* quad = materialAt(f, 2.5f);
+  const Material* last = materialAt(f, 4.25f);
+  EXPECT_GT(quad->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), TransportMode::Radiance).f.r, 0.f);
+  EXPECT_EQ(quad->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), TransportMode::Radiance).f.b, 0.f);
+  EXPECT_GT(last->eval(Vec3(0, 0, 1), Vec3(0, 0, 1), TransportMode::Radiance).f.b, 0.f);
+}
+
 TEST_F(MeshMaterials, UnknownGroupsAndMaterialsAreErrorsWithAHint) {
   try {
     load("materials: {rde: r}");

@@ -137,3 +137,23 @@ TEST(MitsubaTextures, SppmSettingsCarryOver) {
 
 }  // namespace
 }  // namespace lb
+
+namespace lb {
+namespace {
+
+// Booleans and colours among the properties the importer passes over (a
+// plastic's coating, a bitmap's storage settings) are accepted, not errors.
+TEST(MitsubaTextures, PropertiesPassedOverMayHaveAnyType) {
+  MitsubaImport imp = importMitsubaXmlFromString(
+      "<scene version=\"3.0.0\"><sensor type=\"perspective\"/>\n"
+      "<bsdf type=\"roughplastic\" id=\"p\"><boolean name=\"nonlinear\" value=\"true\"/>"
+      "<rgb name=\"specular_reflectance\" value=\"0.5\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>\n"
+      "<bsdf type=\"diffuse\" id=\"d\"><texture type=\"bitmap\" name=\"reflectance\">"
+      "<string name=\"filename\" value=\"a.png\"/><boolean name=\"accel\" value=\"false\"/>"
+      "<string name=\"format\" value=\"fp16\"/></texture></bsdf>\n</scene>\n", "test.xml");
+  EXPECT_EQ(imp.scene["materials"]["p"]["type"].as<std::string>(), "diffuse");
+  EXPECT_EQ(imp.scene["materials"]["d"]["texture"]["type"].as<std::string>(), "image");
+}
+
+}  // namespace
+}  // namespace lb

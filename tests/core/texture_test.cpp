@@ -92,10 +92,38 @@ TEST(Texture, ObjTextureCoordinatesAreFlippedToImageRows) {
   MeshLoadResult r = loadMesh(path, Mat4(1.f), false);
   std::filesystem::remove(path);
   ASSERT_EQ(r.mesh.uvs.size(), 3u);
+  auto uvAt = [&](Vec3 p) {
+    for (size_t i = 0; i < r.mesh.positions.size(); ++i)
+      if (r.mesh.positions[i] == p) return r.mesh.uvs[i];
+    ADD_FAILURE() << "no vertex at " << p.x << " " << p.y;
+    return Vec2(-1.f);
+  };
   // OBJ's v = 0.25 is a quarter up from the bottom: 0.75 down from the top.
-  EXPECT_FLOAT_EQ(r.mesh.uvs[0].y, 0.75f);
-  EXPECT_FLOAT_EQ(r.mesh.uvs[2].y, 0.f);
-  EXPECT_FLOAT_EQ(r.mesh.uvs[1].x, 0.2f);
+  EXPECT_FLOAT_EQ(uvAt(Vec3(0, 0, 0)).y, 0.75f);
+  EXPECT_FLOAT_EQ(uvAt(Vec3(0, 1, 0)).y, 0.f);
+  EXPECT_FLOAT_EQ(uvAt(Vec3(1, 0, 0)).x, 0.2f);
+}
+
+TEST(Texture, AnObjSeamKeepsEachFacesTextureCoordinates) {
+  // Two triangles share the edge (1,0)-(0,1) but give it different vt: a
+  // seam. Each face must keep its own, so the shared positions are split.
+  std::string path = tempPath("seam.obj");
+  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                         "vt 0 0\nvt 0.5 0\nvt 0 0.5\nvt 1 1\nvt 0.6 0.9\nvt 0.9 0.6\n"
+                         "f 1/1 2/2 3/3\nf 2/6 4/4 3/5\n";
+  MeshLoadResult r = loadMesh(path, Mat4(1.f), false);
+  std::filesystem::remove(path);
+  ASSERT_EQ(r.mesh.triangles.size(), 2u);
+  EXPECT_EQ(r.mesh.positions.size(), 6u);  // (1,0) and (0,1) twice each
+  // Interpolated uv at each triangle's centroid: the mean of its corners'.
+  for (const auto& t : r.mesh.triangles) {
+    Vec3 c = (r.mesh.positions[t.x] + r.mesh.positions[t.y] + r.mesh.positions[t.z]) / 3.f;
+    Vec2 uv = (r.mesh.uvs[t.x] + r.mesh.uvs[t.y] + r.mesh.uvs[t.z]) / 3.f;
+    // vt means: first face (1/6, 1/6), second (2.5/3, 2.5/3); v flipped.
+    Vec2 want = c.x + c.y < 1 ? Vec2(0.5f / 3, 1 - 0.5f / 3) : Vec2(2.5f / 3, 1 - 2.5f / 3);
+    EXPECT_NEAR(uv.x, want.x, 1e-6);
+    EXPECT_NEAR(uv.y, want.y, 1e-6);
+  }
 }
 
 // The material seen by a camera ray through the image centre.
@@ -135,6 +163,16 @@ TEST(Texture, EnergyIsCheckedOnTheTexturesLargestValue) {
       "{type: dielectric, texture: {type: checkerboard}}"), "d.yaml"), ConfigError);
   EXPECT_THROW(loadSceneFromString(planeScene("{type: rectangle, material: m}",
       "{type: diffuse, texture: {type: image, file: missing.png}}"), "e.yaml"), ConfigError);
+}
+
+TEST(Texture, BoxFaceUvIsMitsubasCubes) {
+  SceneFile f = loadSceneFromString(planeScene("{type: box, material: m}", "{type: diffuse}"), "box.yaml");
+  // Mitsuba's +z face has corners (1,-1), (1,1), (-1,1), (-1,-1) at uv (0,1),
+  // (1,1), (1,0), (0,0): u = (y + 1)/2, v = (x + 1)/2.
+  SurfaceInteraction si;
+  ASSERT_TRUE(f.scene->intersect(Ray{Vec3(0.5f, -0.5f, 3), Vec3(0, 0, -1), Infinity}, si));
+  EXPECT_NEAR(si.uv.x, 0.25f, 1e-6);
+  EXPECT_NEAR(si.uv.y, 0.75f, 1e-6);
 }
 
 TEST(Texture, BoxFacesEachSpanTheUnitSquareAndFaceOutwards) {
