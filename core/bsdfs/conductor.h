@@ -1,5 +1,5 @@
 #pragma once
-// Conductors: a smooth mirror (delta) and a rough GGX conductor. Fresnel uses
+// Conductors: a smooth mirror (delta) and a rough (GGX or Beckmann) conductor. Fresnel uses
 // the complex IOR (eta, k) when given; otherwise reflectance is `tint` alone.
 #include "core/bsdfs/fresnel.h"
 #include "core/bsdfs/material.h"
@@ -34,20 +34,22 @@ class SmoothConductor final : public Material {
 
 class RoughConductor final : public Material {
  public:
-  RoughConductor(ConductorFresnel fresnel, float alpha) : fresnel_(fresnel), ggx_(alpha) {}
+  RoughConductor(ConductorFresnel fresnel, float alpha, MicrofacetKind kind = MicrofacetKind::GGX)
+      : fresnel_(fresnel), mf_(alpha, kind) {}
 
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode) const override {
     if (!sameHemisphere(wo, wi) || wo.z == 0 || wi.z == 0) return {};
     Vec3 wm = wo + wi;
     if (glm::dot(wm, wm) == 0) return {};
     wm = glm::normalize(wm);
-    Color f = ggx_.D(wm) * fresnel_(absDot(wo, wm)) * ggx_.G(wo, wi) / (4 * absCosTheta(wi) * absCosTheta(wo));
+    Color f = mf_.D(wm) * fresnel_(absDot(wo, wm)) * mf_.G(wo, wi) / (4 * absCosTheta(wi) * absCosTheta(wo));
     return {f, pdf(wo, wi), pdf(wi, wo)};
   }
   std::optional<BSDFSample> sample(const Vec3& wo, float, Vec2 u, TransportMode mode) const override {
     if (wo.z == 0) return std::nullopt;
     Vec3 woUp = wo.z < 0 ? -wo : wo;  // sample as if from above, then mirror back
-    Vec3 wm = ggx_.sampleVisibleNormal(woUp, u);
+    Vec3 wm = mf_.sampleNormal(woUp, u);
+    if (glm::dot(woUp, wm) <= 0) return std::nullopt;  // a back-facing normal (Beckmann samples all of D)
     Vec3 wi = reflect(woUp, wm);
     if (wi.z <= 0) return std::nullopt;
     if (wo.z < 0) wi = -wi;
@@ -62,13 +64,13 @@ class RoughConductor final : public Material {
     wm = glm::normalize(wm);
     if (wm.z < 0) wm = -wm;
     Vec3 woUp = wo.z < 0 ? -wo : wo;
-    return ggx_.visibleD(woUp, wm) / (4 * absDot(wo, wm));
+    return mf_.pdfNormal(woUp, wm) / (4 * absDot(wo, wm));
   }
   uint32_t flags() const override { return BSDFReflection | BSDFGlossy; }
 
  private:
   ConductorFresnel fresnel_;
-  GGX ggx_;
+  Microfacet mf_;
 };
 
 }  // namespace lb

@@ -40,10 +40,10 @@ BSDFEval RoughDielectric::eval(const Vec3& wo, const Vec3& wi, TransportMode mod
   float cosO = cosTheta(wo), cosI = cosTheta(wi);
   float f;
   if (cosO * cosI > 0) {
-    f = ggx_.D(wm) * ggx_.G(wo, wi) * F / std::abs(4 * cosI * cosO);
+    f = mf_.D(wm) * mf_.G(wo, wi) * F / std::abs(4 * cosI * cosO);
   } else {
     float denom = sqr(glm::dot(wi, wm) + glm::dot(wo, wm) / etap) * cosI * cosO;
-    f = ggx_.D(wm) * (1 - F) * ggx_.G(wo, wi) * std::abs(glm::dot(wi, wm) * glm::dot(wo, wm) / denom);
+    f = mf_.D(wm) * (1 - F) * mf_.G(wo, wi) * std::abs(glm::dot(wi, wm) * glm::dot(wo, wm) / denom);
     if (mode == TransportMode::Radiance) f /= etap * etap;
   }
   return {Color(f), pdf(wo, wi), pdf(wi, wo)};
@@ -54,9 +54,9 @@ float RoughDielectric::pdf(const Vec3& wo, const Vec3& wi) const {
   float etap;
   if (!halfVector(wo, wi, &wm, &etap)) return 0;
   float R = fresnelDielectric(glm::dot(wo, wm), eta_), T = 1 - R;
-  // The visible-normal density is symmetric in the sign of wo (sampling from
-  // below mirrors the problem, pbrt-v4 §9.6.4).
-  float pdfWm = ggx_.visibleD(wo, wm);
+  // The normal's density is symmetric in the sign of wo (sampling from below
+  // mirrors the problem, pbrt-v4 §9.6.4).
+  float pdfWm = mf_.pdfNormal(wo, wm);
   if (cosTheta(wo) * cosTheta(wi) > 0) return pdfWm / (4 * absDot(wo, wm)) * R;
   float denom = sqr(glm::dot(wi, wm) + glm::dot(wo, wm) / etap);
   return pdfWm * absDot(wi, wm) / denom * T;
@@ -65,7 +65,8 @@ float RoughDielectric::pdf(const Vec3& wo, const Vec3& wi) const {
 std::optional<BSDFSample> RoughDielectric::sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const {
   if (wo.z == 0) return std::nullopt;
   Vec3 woUp = wo.z < 0 ? -wo : wo;
-  Vec3 wm = ggx_.sampleVisibleNormal(woUp, u);  // facing +z
+  Vec3 wm = mf_.sampleNormal(woUp, u);  // facing +z
+  if (glm::dot(woUp, wm) <= 0) return std::nullopt;  // a back-facing normal (Beckmann samples all of D)
   float R = fresnelDielectric(glm::dot(wo, wm), eta_);
   Vec3 wi;
   uint32_t lobe;

@@ -22,7 +22,7 @@ class SmoothDielectric final : public Material {
 
 class RoughDielectric final : public Material {
  public:
-  RoughDielectric(float eta, float alpha) : eta_(eta), ggx_(alpha) {}
+  RoughDielectric(float eta, float alpha, MicrofacetKind kind = MicrofacetKind::GGX) : eta_(eta), mf_(alpha, kind) {}
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
   std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override;
   float pdf(const Vec3& wo, const Vec3& wi) const override;
@@ -34,7 +34,7 @@ class RoughDielectric final : public Material {
   // either direction meets a back-facing microfacet.
   bool halfVector(const Vec3& wo, const Vec3& wi, Vec3* wm, float* etap) const;
   float eta_;
-  GGX ggx_;
+  Microfacet mf_;
 };
 
 }  // namespace lb

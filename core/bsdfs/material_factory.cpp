@@ -22,8 +22,11 @@ constexpr float SmoothAlpha = 1e-3f;
 float roughness(Params& p) {
   float r = p.getFloat("roughness", 0.f);
   if (r < 0) p.fail("roughness", "must not be negative");
-  if (r > 1) p.fail("roughness", "must be at most 1 (GGX alpha)");
+  if (r > 1) p.fail("roughness", "must be at most 1 (the distribution's alpha)");
   return r;
+}
+MicrofacetKind distribution(Params& p) {
+  return p.getChoice("distribution", "ggx", {"ggx", "beckmann"}) == "ggx" ? MicrofacetKind::GGX : MicrofacetKind::Beckmann;
 }
 }  // namespace
 
@@ -43,8 +46,9 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
       if (glm::any(glm::lessThan(fresnel.k, Color(0.f)))) p.fail("k", "must not be negative");
     }
     float alpha = roughness(p);
+    MicrofacetKind kind = distribution(p);
     if (alpha < SmoothAlpha) m = std::make_unique<SmoothConductor>(fresnel);
-    else m = std::make_unique<RoughConductor>(fresnel, alpha);
+    else m = std::make_unique<RoughConductor>(fresnel, alpha, kind);
   } else if (type == "thin_dielectric") {
     float ior = p.getFloat("ior", 1.5f);
     if (ior <= 0) p.fail("ior", "must be positive");
@@ -53,10 +57,11 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
     float ior = p.getFloat("ior", 1.5f);
     if (ior <= 0) p.fail("ior", "must be positive");
     float alpha = roughness(p);
+    MicrofacetKind kind = distribution(p);
     // An index-matched interface does not bend light: rough or not, it is a
     // straight pass-through, which only the smooth model represents.
     if (alpha < SmoothAlpha || ior == 1.f) m = std::make_unique<SmoothDielectric>(ior);
-    else m = std::make_unique<RoughDielectric>(ior, alpha);
+    else m = std::make_unique<RoughDielectric>(ior, alpha, kind);
   }
   // A texture scales f (material.h): the albedo of a diffuse surface, the tint
   // of a conductor. Elsewhere f is not linear in a colour we could texture.

@@ -1,15 +1,27 @@
 #pragma once
-// Isotropic GGX / Trowbridge–Reitz distribution with visible-normal sampling
-// (Heitz 2018, "Sampling the GGX Distribution of Visible Normals"; the
-// formulation follows pbrt-v4 §9.6). `alpha` is the GGX width parameter.
+// Isotropic microfacet distributions: GGX / Trowbridge–Reitz and Beckmann,
+// with Smith's masking (Walter et al. 2007, "Microfacet Models for
+// Refraction through Rough Surfaces"; Heitz 2014, "Understanding the
+// Masking-Shadowing Function"). `alpha` is each one's width parameter.
+//
+// Sampling: GGX draws visible normals (Heitz 2018, "Sampling the GGX
+// Distribution of Visible Normals"; pbrt-v4 §9.6), Beckmann draws normals
+// from D(m) cos θm (Walter et al. 2007, Eq. 28: tan²θm = −α² ln(1 − u)).
+// pdfNormal() is the density of whichever the distribution samples, so the
+// materials need not know which it is.
+#include <cmath>
 #include "core/frame.h"
 
 namespace lb {
 
-class GGX {
+enum class MicrofacetKind { GGX, Beckmann };
+
+class Microfacet {
  public:
-  explicit GGX(float alpha) : alpha_(std::max(alpha, 1e-4f)) {}
+  explicit Microfacet(float alpha, MicrofacetKind kind = MicrofacetKind::GGX)
+      : alpha_(std::max(alpha, 1e-4f)), kind_(kind) {}
   float alpha() const { return alpha_; }
+  MicrofacetKind kind() const { return kind_; }
 
   float D(const Vec3& wm) const {
     float cos2 = wm.z * wm.z;
@@ -17,22 +29,36 @@ class GGX {
     if (cos4 < 1e-16f) return 0;
     float tan2 = (wm.x * wm.x + wm.y * wm.y) / cos2;  // not (1 - cos²)/cos²: no cancellation near the pole
     float e = tan2 / (alpha_ * alpha_);
+    if (kind_ == MicrofacetKind::Beckmann) return std::exp(-e) / (Pi * alpha_ * alpha_ * cos4);
     return 1 / (Pi * alpha_ * alpha_ * cos4 * sqr(1 + e));
   }
+  // Smith's Λ (Heitz 2014, Eqs. 72 and 86).
   float lambda(const Vec3& w) const {
     float cos2 = w.z * w.z;
     if (cos2 == 0) return Infinity;
     float tan2 = (w.x * w.x + w.y * w.y) / cos2;
-    return (std::sqrt(1 + alpha_ * alpha_ * tan2) - 1) / 2;
+    if (kind_ == MicrofacetKind::GGX) return (std::sqrt(1 + alpha_ * alpha_ * tan2) - 1) / 2;
+    if (tan2 == 0) return 0;
+    double a = 1 / (double(alpha_) * std::sqrt(double(tan2)));
+    return float((std::erf(a) - 1) / 2 + std::exp(-a * a) / (2 * a * std::sqrt(Pi)));
   }
   float G1(const Vec3& w) const { return 1 / (1 + lambda(w)); }
   float G(const Vec3& wo, const Vec3& wi) const { return 1 / (1 + lambda(wo) + lambda(wi)); }
-  // Density of visible normals seen from w (Heitz 2014, Eq. 2).
-  float visibleD(const Vec3& w, const Vec3& wm) const {
+
+  // Density of the normal sampleNormal() draws, seen from w (upper hemisphere).
+  float pdfNormal(const Vec3& w, const Vec3& wm) const {
+    if (kind_ == MicrofacetKind::Beckmann) return D(wm) * absCosTheta(wm);
+    // Visible normals (Heitz 2014, Eq. 2).
     float c = absCosTheta(w);
     return c > 0 ? G1(w) / c * D(wm) * absDot(w, wm) : 0;
   }
-  Vec3 sampleVisibleNormal(const Vec3& w, Vec2 u) const {
+  Vec3 sampleNormal(const Vec3& w, Vec2 u) const {
+    if (kind_ == MicrofacetKind::Beckmann) {
+      float tan2 = -alpha_ * alpha_ * std::log1p(-std::min(u.x, 0.99999994f));
+      float cosTheta = 1 / std::sqrt(1 + tan2), sinTheta = safeSqrt(1 - cosTheta * cosTheta);
+      float phi = 2 * Pi * u.y;
+      return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+    }
     Vec3 wh = glm::normalize(Vec3(alpha_ * w.x, alpha_ * w.y, w.z));
     if (wh.z < 0) wh = -wh;
     Vec3 t1 = wh.z < 0.99999f ? glm::normalize(glm::cross(Vec3(0, 0, 1), wh)) : Vec3(1, 0, 0);
@@ -49,6 +75,7 @@ class GGX {
 
  private:
   float alpha_;
+  MicrofacetKind kind_;
 };
 
 }  // namespace lb

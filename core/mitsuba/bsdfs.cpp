@@ -43,9 +43,9 @@ double iorProperty(XmlContext& xml, Props& p, pugi::xml_node n, const std::strin
   return v;
 }
 
-// GGX is lightbench's only microfacet distribution; Beckmann of the same
-// alpha has the same mean slope but a different lobe shape.
-double microfacetAlpha(XmlContext& xml, Props& p, pugi::xml_node n) {
+// Mitsuba's microfacet roughness: its distribution (Beckmann by default) and
+// alpha, both of which lightbench has; anisotropic alphas are averaged.
+void microfacet(XmlContext& xml, Props& p, pugi::xml_node n, YAML::Node& m) {
   std::string distribution = p.getString("distribution", "beckmann");
   double alpha = p.getFloat("alpha", 0.1);
   if (p.has("alpha_u") || p.has("alpha_v")) {
@@ -54,11 +54,10 @@ double microfacetAlpha(XmlContext& xml, Props& p, pugi::xml_node n) {
     alpha = (u + v) / 2;
   }
   p.getBool("sample_visible", true);  // how it samples, not what it estimates
-  if (distribution == "beckmann")
-    xml.warn(n, "Beckmann roughness is not supported; approximated as GGX with the same alpha");
-  else if (distribution != "ggx")
+  if (distribution != "ggx" && distribution != "beckmann")
     xml.fail(n, "distribution", "expected ggx or beckmann, got '" + distribution + "'");
-  return alpha;
+  m["roughness"] = alpha;
+  m["distribution"] = distribution;
 }
 
 YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
@@ -82,7 +81,8 @@ YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
     xml.warn(n, "ext_eta is not supported; the exterior is taken as vacuum");
   }
   m["tint"] = flowVec(p.getColor("specular_reflectance", glm::dvec3(1.0)));
-  m["roughness"] = rough ? microfacetAlpha(xml, p, n) : 0.0;
+  if (rough) microfacet(xml, p, n, m);
+  else m["roughness"] = 0.0;
   return m;
 }
 
@@ -95,7 +95,8 @@ YAML::Node dielectric(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   for (const char* tint : {"specular_reflectance", "specular_transmittance"})
     if (p.has(tint) && p.getColor(tint, glm::dvec3(1.0)) != glm::dvec3(1.0))
       xml.warn(n, std::string(tint) + " is not supported on dielectrics; dropped (untinted)");
-  m["roughness"] = rough ? microfacetAlpha(xml, p, n) : 0.0;
+  if (rough) microfacet(xml, p, n, m);
+  else m["roughness"] = 0.0;
   return m;
 }
 

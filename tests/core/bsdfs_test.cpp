@@ -33,6 +33,10 @@ std::vector<Case> glossyCases() {
       {"dielectric a=0.15 eta=1.5", std::make_shared<RoughDielectric>(1.5f, 0.15f)},
       {"dielectric a=0.5 eta=1.5", std::make_shared<RoughDielectric>(1.5f, 0.5f)},
       {"dielectric a=0.3 eta=1/1.33", std::make_shared<RoughDielectric>(1 / 1.33f, 0.3f)},
+      {"beckmann conductor a=0.1", std::make_shared<RoughConductor>(gold, 0.1f, MicrofacetKind::Beckmann)},
+      {"beckmann conductor a=0.6", std::make_shared<RoughConductor>(ConductorFresnel{}, 0.6f, MicrofacetKind::Beckmann)},
+      {"beckmann dielectric a=0.2 eta=1.5", std::make_shared<RoughDielectric>(1.5f, 0.2f, MicrofacetKind::Beckmann)},
+      {"beckmann dielectric a=0.4 eta=1/1.33", std::make_shared<RoughDielectric>(1 / 1.33f, 0.4f, MicrofacetKind::Beckmann)},
   };
 }
 
