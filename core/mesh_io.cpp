@@ -65,11 +65,9 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
   OMesh om;
   om.request_vertex_normals();
   om.request_vertex_texcoords2D();
-  om.request_halfedge_texcoords2D();
   OpenMesh::IO::Options options;
   options += OpenMesh::IO::Options::VertexNormal;
   options += OpenMesh::IO::Options::VertexTexCoord;
-  if (ext == ".obj") options += OpenMesh::IO::Options::FaceTexCoord;
   if (!OpenMesh::IO::read_mesh(om, path, options)) throw std::runtime_error(path + ": the mesh reader could not read the file");
   if (om.n_faces() == 0) throw std::runtime_error(path + ": no faces (all faces were degenerate or non-manifold)");
   bool hasNormals = options.check(OpenMesh::IO::Options::VertexNormal);
@@ -79,43 +77,34 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
     hasNormals = true;
   }
   bool hasUvs = options.check(OpenMesh::IO::Options::VertexTexCoord);
-  // An OBJ's vt belong to face corners: at a texture seam one position has
-  // two uvs. OpenMesh keeps them on the halfedges; a vertex is split per
-  // distinct (position, uv) as Mitsuba does, or the seam's triangles would
-  // stretch across the texture.
-  bool cornerUvs = options.check(OpenMesh::IO::Options::FaceTexCoord);
 
   MeshLoadResult result;
   TriangleMesh& m = result.mesh;
-  // Texture space has v = 0 at the image's top (core/textures/texture.h);
-  // OBJ's vt has it at the bottom, so OBJ files are flipped as Mitsuba does
-  // (its obj shape's flip_tex_coords, on by default). PLY is not.
-  auto toUv = [&](OMesh::TexCoord2D t) { return Vec2(t[0], ext == ".obj" ? 1 - t[1] : t[1]); };
-  std::map<std::tuple<int, float, float>, unsigned> corners;  // (vertex, uv) → our vertex
-  auto vertexFor = [&](OMesh::VertexHandle v, Vec2 uv) {
-    auto key = std::make_tuple(v.idx(), uv.x, uv.y);
-    auto it = corners.find(key);
-    if (it != corners.end()) return it->second;
-    unsigned index = unsigned(m.positions.size());
+  for (auto v : om.vertices()) {
     auto p = om.point(v);
     m.positions.emplace_back(p[0], p[1], p[2]);
     if (hasNormals) {
       auto n = om.normal(v);
       m.normals.emplace_back(n[0], n[1], n[2]);
     }
-    if (hasUvs || cornerUvs) m.uvs.push_back(uv);
-    corners.emplace(key, index);
-    return index;
-  };
+    if (hasUvs) {
+      // Texture space has v = 0 at the image's top (core/textures/texture.h);
+      // OBJ's vt has it at the bottom, so OBJ files are flipped as Mitsuba
+      // does (its obj shape's flip_tex_coords, on by default). PLY is not.
+      auto t = om.texcoord2D(v);
+      m.uvs.emplace_back(t[0], ext == ".obj" ? 1 - t[1] : t[1]);
+    }
+  }
   for (auto f : om.faces()) {
     std::vector<unsigned> idx;
-    for (auto h : om.fh_range(f)) {
-      OMesh::VertexHandle v = om.to_vertex_handle(h);
-      Vec2 uv = cornerUvs ? toUv(om.texcoord2D(h)) : hasUvs ? toUv(om.texcoord2D(v)) : Vec2(0.f);
-      idx.push_back(vertexFor(v, uv));
-    }
+    for (auto v : om.fv_range(f)) idx.push_back(unsigned(v.idx()));
     if (idx.size() == 3) m.triangles.emplace_back(idx[0], idx[1], idx[2]);
   }
+  // OpenMesh keeps one uv per vertex: at a texture seam (a position used
+  // with two vt) one of them is lost. Said where a texture would show it.
+  if (groups.seamLine > 0)
+    m.uvSeam = path + ":" + std::to_string(groups.seamLine) + ": a vertex used with two different texture coordinates "
+               "(a texture seam); lightbench keeps one uv per vertex, so a texture smears across the seam's triangles";
   // Groups by position: OpenMesh adds the faces in file order, an n-gon as
   // n − 2 consecutive triangles. A face it refused (non-manifold, repeated
   // vertices) shifts every later one, so then the groups are not matched.

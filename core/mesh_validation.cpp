@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 namespace lb {
@@ -145,6 +146,7 @@ ObjFaceGroups validateObjFile(const std::string& path) {
   ObjCounts n;
   ObjFaceGroups groups;
   int current = -1;
+  std::unordered_map<int64_t, int64_t> vertexTexcoord;
   std::string raw;
   for (uint64_t line = 1; std::getline(in, raw); ++line) {
     std::string trimmed = trimObjLine(raw);
@@ -164,6 +166,19 @@ ObjFaceGroups validateObjFile(const std::string& path) {
     } else if (key == "f") {
       checkObjFace(path, line, tokens, n);
       ++n.faces;
+      // A vertex used with two different vt: a seam (OpenMesh keeps one uv).
+      for (size_t i = 1; i < tokens.size() && groups.seamLine == 0; ++i) {
+        size_t a = tokens[i].find('/');
+        if (a == std::string::npos) continue;
+        size_t b = tokens[i].find('/', a + 1);
+        std::string vt = tokens[i].substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1);
+        int64_t v = 0, t = 0;
+        if (vt.empty() || !meshcheck::parseInteger(tokens[i].substr(0, a), v) || !meshcheck::parseInteger(vt, t)) continue;
+        if (v < 0) v += n.positions + 1;  // relative indices, checked above
+        if (t < 0) t += n.texcoords + 1;
+        auto [it, fresh] = vertexTexcoord.emplace(v, t);
+        if (!fresh && it->second != t) groups.seamLine = line;
+      }
       if (current < 0) {
         groups.names.push_back("");
         current = int(groups.names.size()) - 1;

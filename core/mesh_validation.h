@@ -22,6 +22,7 @@ struct ObjFaceGroups {
   std::vector<std::string> names;  // in order of first use; "" for faces before any usemtl
   std::vector<int> faceGroup;      // per `f` line: index into names
   std::vector<int> faceVertices;   // per `f` line: its vertex count (n − 2 triangles)
+  uint64_t seamLine = 0;           // first line using a vertex with a second vt (a texture seam), or 0
 };
 
 ObjFaceGroups validateObjFile(const std::string& path);

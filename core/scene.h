@@ -33,6 +33,7 @@ class Scene {
     materials_.push_back(std::move(m));
     return int(materials_.size()) - 1;
   }
+  const Material& material(int id) const { return *materials_[size_t(id)]; }
   void addShape(Shape shape, Emission emission = {});
   void addLight(std::unique_ptr<Light> light) { lights_.push_back(std::move(light)); }
   // Creates the area lights, commits Embree's BVH, and prepares light sampling.

@@ -236,6 +236,11 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   p.checkUnused();
   shape.materialId = material;
   shape.triangleMaterials = std::move(triangleMaterials);
+  if (!shape.isSphere() && !shape.triangleMesh().uvSeam.empty()) {
+    bool textured = material >= 0 && scene.material(material).texture();
+    for (int m : shape.triangleMaterials) textured |= m >= 0 && scene.material(m).texture();
+    if (textured) warn(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": " + shape.triangleMesh().uvSeam);
+  }
   scene.addShape(std::move(shape), emission);
 }
 

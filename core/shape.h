@@ -19,6 +19,7 @@ struct TriangleMesh {
   std::vector<int> triangleGroups;
   std::vector<std::string> groupNames;
   std::string groupsUnmatched;  // why triangleGroups is empty despite several groups, or ""
+  std::string uvSeam;           // "file:line: …" where the file's uvs have a seam lightbench merges, or ""
 };
 
 struct Sphere {

@@ -104,26 +104,21 @@ TEST(Texture, ObjTextureCoordinatesAreFlippedToImageRows) {
   EXPECT_FLOAT_EQ(uvAt(Vec3(1, 0, 0)).x, 0.2f);
 }
 
-TEST(Texture, AnObjSeamKeepsEachFacesTextureCoordinates) {
+TEST(Texture, AnObjTextureSeamIsFoundAndNamedByLine) {
   // Two triangles share the edge (1,0)-(0,1) but give it different vt: a
-  // seam. Each face must keep its own, so the shared positions are split.
-  std::string path = tempPath("seam.obj");
-  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
-                         "vt 0 0\nvt 0.5 0\nvt 0 0.5\nvt 1 1\nvt 0.6 0.9\nvt 0.9 0.6\n"
-                         "f 1/1 2/2 3/3\nf 2/6 4/4 3/5\n";
-  MeshLoadResult r = loadMesh(path, Mat4(1.f), false);
-  std::filesystem::remove(path);
-  ASSERT_EQ(r.mesh.triangles.size(), 2u);
-  EXPECT_EQ(r.mesh.positions.size(), 6u);  // (1,0) and (0,1) twice each
-  // Interpolated uv at each triangle's centroid: the mean of its corners'.
-  for (const auto& t : r.mesh.triangles) {
-    Vec3 c = (r.mesh.positions[t.x] + r.mesh.positions[t.y] + r.mesh.positions[t.z]) / 3.f;
-    Vec2 uv = (r.mesh.uvs[t.x] + r.mesh.uvs[t.y] + r.mesh.uvs[t.z]) / 3.f;
-    // vt means: first face (1/6, 1/6), second (2.5/3, 2.5/3); v flipped.
-    Vec2 want = c.x + c.y < 1 ? Vec2(0.5f / 3, 1 - 0.5f / 3) : Vec2(2.5f / 3, 1 - 2.5f / 3);
-    EXPECT_NEAR(uv.x, want.x, 1e-6);
-    EXPECT_NEAR(uv.y, want.y, 1e-6);
-  }
+  // seam, which one uv per vertex cannot represent. Said with its line.
+  std::string dir = tempPath("seam");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/seam.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                                      "vt 0 0\nvt 0.5 0\nvt 0 0.5\nvt 1 1\nvt 0.6 0.9\nvt 0.9 0.6\n"
+                                      "f 1/1 2/2 3/3\nf 2/6 4/4 3/5\n";
+  MeshLoadResult r = loadMesh(dir + "/seam.obj", Mat4(1.f), false);
+  EXPECT_NE(r.mesh.uvSeam.find("seam.obj:12:"), std::string::npos) << r.mesh.uvSeam;
+  // The same vertices with the same vt on both faces: no seam.
+  std::ofstream(dir + "/seamless.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+                                          "f 1/1 2/2 3/3\nf 2/2 4/4 3/3\n";
+  EXPECT_TRUE(loadMesh(dir + "/seamless.obj", Mat4(1.f), false).mesh.uvSeam.empty());
+  std::filesystem::remove_all(dir);
 }
 
 // The material seen by a camera ray through the image centre.
