@@ -54,9 +54,7 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
     for (auto it = sf.integrator.begin(); it != sf.integrator.end(); ++it)
       if (it->first.as<std::string>() != "name") c.params[it->first.as<std::string>()] = it->second;
   // Keys that define the integral (an imported scene's max_depth) hold for any integrator.
-  if (sf.integrator && c.name != sceneName)
-    for (const std::string& key : sf.sharedIntegratorKeys)
-      if (sf.integrator[key]) c.params[key] = sf.integrator[key];
+  c.params = withSharedIntegratorKeys(sf, c.params);
   for (const std::string& kv : args.overrides) {
     auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)

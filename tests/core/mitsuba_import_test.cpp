@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/mitsuba/import.h"
 #include "core/scene_loader.h"
+#include "tests/support/mitsuba_snippets.h"
 #include "tests/support/render_helpers.h"
 
 namespace lb {
@@ -15,16 +16,8 @@ namespace {
 
 using test::sourcePath;
 
-// A minimal valid scene around `body` (3.x dialect unless `version` says otherwise).
-std::string xmlScene(const std::string& body, const std::string& version = "3.0.0") {
-  return "<scene version=\"" + version + "\">\n"
-         "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n"
-         "<film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer name=\"height\" value=\"8\"/>"
-         "<rfilter type=\"box\"/></film></sensor>\n" +
-         body + "</scene>\n";
-}
-
-MitsubaImport import(const std::string& xml) { return importMitsubaXmlFromString(xml, "test.xml"); }
+using test::xmlScene;
+MitsubaImport import(const std::string& xml) { return test::importSnippet(xml); }
 
 // The error the snippet raises, or "" if none.
 std::string errorOf(const std::string& xml) {

@@ -5,18 +5,13 @@
 #include <cmath>
 #include "core/error.h"
 #include "core/mitsuba/import.h"
+#include "tests/support/mitsuba_snippets.h"
 
 namespace lb {
 namespace {
 
-std::string xmlScene(const std::string& body, const std::string& version = "3.0.0") {
-  return "<scene version=\"" + version + "\">\n"
-         "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/>\n"
-         "<film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer name=\"height\" value=\"8\"/>"
-         "<rfilter type=\"box\"/></film></sensor>\n" +
-         body + "</scene>\n";
-}
-MitsubaImport import(const std::string& xml) { return importMitsubaXmlFromString(xml, "test.xml"); }
+using test::xmlScene;
+MitsubaImport import(const std::string& xml) { return test::importSnippet(xml); }
 bool warned(const MitsubaImport& imp, const std::string& phrase) {
   for (const ImportWarning& w : imp.warnings)
     if ((w.element + w.message).find(phrase) != std::string::npos) return true;
