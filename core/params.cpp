@@ -110,26 +110,76 @@ std::vector<float> Params::getFloatList(const std::string& key, size_t count) {
   return v;
 }
 
-float Params::getFloat(const std::string& key, float fallback) {
+namespace {
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+}  // namespace
+
+std::string Range::text() const {
+  if (lo != -HUGE_VAL && hi != HUGE_VAL)
+    return (loOpen ? "(" : "[") + number(lo) + ", " + number(hi) + (hiOpen ? ")" : "]");
+  if (lo != -HUGE_VAL) return (loOpen ? "> " : ">= ") + number(lo);
+  if (hi != HUGE_VAL) return (hiOpen ? "< " : "<= ") + number(hi);
+  return "";
+}
+
+std::string Range::violation() const {
+  if (hi == HUGE_VAL && lo == 0) return loOpen ? "must be positive" : "must not be negative";
+  if (hi == HUGE_VAL && !loOpen) return "must be at least " + number(lo);
+  return "must be in " + text();
+}
+
+void Params::document(const std::string& key, const std::string& type, const std::string& fallback,
+                      const std::string& allowed, const std::string& meaning) {
+  for (const auto& d : docs_)
+    if (d.key == key) return;  // read twice (e.g. max_depth by two readers): the first says it
+  docs_.push_back({key, type, fallback, allowed, meaning, condition_});
+}
+
+void Params::checkRange(const std::string& key, double v, const KeySpec& spec) const {
+  if (!spec.range.contains(v)) fail(key, spec.range.violation());
+}
+
+std::vector<KeyDoc> describeKeys(const std::function<void(Params&)>& reader) {
+  Params p(YAML::Node(YAML::NodeType::Map), "", "");
+  p.describing_ = true;
+  reader(p);
+  return p.docs_;
+}
+
+float Params::getFloat(const std::string& key, float fallback, const KeySpec& spec) {
+  document(key, "number", number(fallback), spec.range.text(), spec.meaning);
   YAML::Node n = lookup(key);
-  return record(key, n && !n.IsNull() ? toFloat(n, key) : fallback);
+  float v = n && !n.IsNull() ? toFloat(n, key) : fallback;
+  checkRange(key, v, spec);
+  return record(key, v);
 }
 float Params::requireFloat(const std::string& key) {
   if (!has(key)) fail(key, "is required");
   return getFloat(key, 0);
 }
 
-int Params::getInt(const std::string& key, int fallback) {
+int Params::getInt(const std::string& key, int fallback, const KeySpec& spec) {
+  document(key, "integer", std::to_string(fallback), spec.range.text(), spec.meaning);
   YAML::Node n = lookup(key);
-  if (!n || n.IsNull()) return record(key, fallback);
-  try {
-    if (n.IsScalar()) return record(key, n.as<int>());
-  } catch (const YAML::Exception&) {
+  int v = fallback;
+  if (n && !n.IsNull()) {
+    try {
+      if (!n.IsScalar()) throw YAML::Exception(YAML::Mark(), "");
+      v = n.as<int>();
+    } catch (const YAML::Exception&) {
+      fail(key, "expected an integer, got " + shapeOf(n));
+    }
   }
-  fail(key, "expected an integer, got " + shapeOf(n));
+  checkRange(key, v, spec);
+  return record(key, v);
 }
 
-bool Params::getBool(const std::string& key, bool fallback) {
+bool Params::getBool(const std::string& key, bool fallback, const KeySpec& spec) {
+  document(key, "bool", fallback ? "true" : "false", "true, false", spec.meaning);
   YAML::Node n = lookup(key);
   if (!n || n.IsNull()) return record(key, fallback);
   try {
@@ -139,7 +189,8 @@ bool Params::getBool(const std::string& key, bool fallback) {
   fail(key, "expected true or false, got " + shapeOf(n));
 }
 
-std::string Params::getString(const std::string& key, const std::string& fallback) {
+std::string Params::getString(const std::string& key, const std::string& fallback, const KeySpec& spec) {
+  document(key, "string", fallback, "", spec.meaning);
   YAML::Node n = lookup(key);
   if (!n || n.IsNull()) return record(key, fallback);
   if (!n.IsScalar()) fail(key, "expected a string, got " + shapeOf(n));
@@ -151,12 +202,13 @@ std::string Params::requireString(const std::string& key) {
 }
 
 std::string Params::getChoice(const std::string& key, const std::string& fallback,
-                              const std::vector<std::string>& choices) {
+                              const std::vector<std::string>& choices, const KeySpec& spec) {
+  std::string list;
+  for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+  document(key, "choice", fallback, list, spec.meaning);
   std::string v = getString(key, fallback);
   for (const auto& c : choices)
     if (c == v) return v;
-  std::string list;
-  for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
   std::string hint = closestMatch(v, choices);
   fail(key, "unknown value '" + v + "' (expected one of: " + list + ")" +
                 (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
@@ -208,7 +260,10 @@ void Params::checkUnused() const {
     std::string key = it->first.Scalar();
     if (asked_.count(key)) continue;
     std::string hint = closestMatch(key, known);
-    fail(key, "unknown key" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?"));
+    std::string valid;
+    for (const auto& k : known) valid += (valid.empty() ? "" : ", ") + k;
+    fail(key, "unknown key" + (hint.empty() ? std::string() : "; did you mean '" + hint + "'?") +
+                  (valid.empty() ? " (no keys are read here)" : " (valid keys: " + valid + ")"));
   }
 }
 

@@ -3,7 +3,9 @@
 // recorded; checkUnused() then rejects any key nobody read, naming its line and
 // the closest valid key ("did you mean"). Numbers must be finite.
 #include <yaml-cpp/yaml.h>
+#include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -14,20 +16,57 @@
 
 namespace lb {
 
+// The values a number may take, checked by the getter that reads it and
+// printed by `lightbench integrators NAME`: one statement of the rule.
+struct Range {
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  bool loOpen = false, hiOpen = false;
+  static Range atLeast(double lo) { return {lo, HUGE_VAL, false, false}; }
+  static Range above(double lo) { return {lo, HUGE_VAL, true, false}; }
+  static Range between(double lo, double hi) { return {lo, hi, false, false}; }  // [lo, hi]
+  static Range openClosed(double lo, double hi) { return {lo, hi, true, false}; }  // (lo, hi]
+  static Range open(double lo, double hi) { return {lo, hi, true, true}; }  // (lo, hi)
+  bool contains(double v) const {
+    return (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi);
+  }
+  bool bounded() const { return lo != -HUGE_VAL || hi != HUGE_VAL; }
+  std::string text() const;  // "[0, 1]", ">= 1", "> 0"
+  std::string violation() const;  // "must be positive", "must be in (0, 1)"
+};
+
+// What a key means (one line), and its range for numbers. The settings readers
+// give it to the getters; the getters record it with the key's type and
+// default, so the listing of an integrator's keys is the reader itself, run on
+// an empty mapping (describeKeys below).
+struct KeySpec {
+  std::string meaning;
+  Range range = {};
+  KeySpec() = default;
+  KeySpec(const char* m) : meaning(m) {}
+  KeySpec(std::string m, Range r = {}) : meaning(std::move(m)), range(r) {}
+};
+
+// One key as read: name, type, default, allowed values, meaning.
+struct KeyDoc {
+  std::string key, type, fallback, allowed, meaning;
+  std::string condition;  // when the key is read at all, e.g. "base: photon"; "" always
+};
+
 class Params {
  public:
   // `context` names the mapping in messages, e.g. "integrator" or "shapes[2]".
   Params(YAML::Node node, std::string file, std::string context);
 
   bool has(const std::string& key);
-  float getFloat(const std::string& key, float fallback);
+  float getFloat(const std::string& key, float fallback, const KeySpec& spec = {});
   float requireFloat(const std::string& key);
-  int getInt(const std::string& key, int fallback);
-  bool getBool(const std::string& key, bool fallback);
-  std::string getString(const std::string& key, const std::string& fallback);
+  int getInt(const std::string& key, int fallback, const KeySpec& spec = {});
+  bool getBool(const std::string& key, bool fallback, const KeySpec& spec = {});
+  std::string getString(const std::string& key, const std::string& fallback, const KeySpec& spec = {});
   std::string requireString(const std::string& key);
   // One of `choices`; anything else is an error listing them.
-  std::string getChoice(const std::string& key, const std::string& fallback, const std::vector<std::string>& choices);
+  std::string getChoice(const std::string& key, const std::string& fallback, const std::vector<std::string>& choices,
+                        const KeySpec& spec = {});
   Vec3 getVec3(const std::string& key, Vec3 fallback);
   Vec3 requireVec3(const std::string& key);
   // Exactly `count` finite numbers.
@@ -40,8 +79,16 @@ class Params {
   std::optional<Params> getChild(const std::string& key);
   std::vector<Params> getList(const std::string& key);
 
-  // Throws for the first key that no get*/has call asked for.
+  // Throws for the first key that no get*/has call asked for, naming the
+  // closest valid key and listing them all.
   void checkUnused() const;
+  // Every key read so far, in reading order, with its spec.
+  const std::vector<KeyDoc>& keyDocs() const { return docs_; }
+  // True while a reader is run only to list its keys (describeKeys): readers
+  // then read keys that depend on another key's value too.
+  bool describing() const { return describing_; }
+  // Keys read from now on are read only under `condition` (see KeyDoc).
+  void setCondition(std::string condition) { condition_ = std::move(condition); }
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
   // The error fail() would throw, for checks made later (e.g. at render time).
   ConfigError error(const std::string& key, const std::string& message) const;
@@ -65,6 +112,13 @@ class Params {
   YAML::Node node_;
   std::string file_, context_;
   std::set<std::string> asked_, overridden_;
+  std::vector<KeyDoc> docs_;
+  bool describing_ = false;
+  std::string condition_;
+  void document(const std::string& key, const std::string& type, const std::string& fallback,
+                const std::string& allowed, const std::string& meaning);
+  void checkRange(const std::string& key, double v, const KeySpec& spec) const;
+  friend std::vector<KeyDoc> describeKeys(const std::function<void(Params&)>& reader);
   YAML::Node resolved_{YAML::NodeType::Map};
   template <typename T>
   T record(const std::string& key, T value) {
@@ -79,6 +133,9 @@ class Params {
     return v;
   }
 };
+
+// The keys `reader` reads: it is run on an empty mapping in describing mode.
+std::vector<KeyDoc> describeKeys(const std::function<void(Params&)>& reader);
 
 // Closest candidate by edit distance, or "" if none is close.
 std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);

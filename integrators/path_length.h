@@ -45,11 +45,11 @@ struct PathLength {
 
   static PathLength read(Params& p) {
     PathLength s;
-    s.maxDepth = p.getInt("max_depth", 32);
-    if (s.maxDepth < -1) p.fail("max_depth", "must be >= 0, or -1 for unlimited");
-    s.russianRoulette = p.getBool("rr", true);
-    s.rrDepth = p.getInt("rr_depth", 3);
-    if (s.rrDepth < 1) p.fail("rr_depth", "must be at least 1");
+    s.maxDepth = p.getInt("max_depth", 32,
+                          {"longest path in segments, camera to light (the camera ray is 1, direct light 2); -1: unlimited",
+                           Range::atLeast(-1)});
+    s.russianRoulette = p.getBool("rr", true, "Russian roulette on the path throughput (pbrt-v4 13.4)");
+    s.rrDepth = p.getInt("rr_depth", 3, {"segments before Russian roulette may end a path", Range::atLeast(1)});
     if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
     return s;
   }

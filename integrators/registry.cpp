@@ -1,4 +1,6 @@
 #include "integrators/registry.h"
+#include <iomanip>
+#include <sstream>
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
@@ -33,6 +35,44 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
   };
   return table;
+}
+
+std::vector<KeyDoc> integratorKeys(const std::string& name) {
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) return describeKeys([&](Params& p) { e.create(p); });
+  Params none(YAML::Node(YAML::NodeType::Map), "", "");
+  makeIntegrator(name, none, "command line", 0);  // throws, listing the names
+  return {};
+}
+
+std::string formatIntegratorKeys(const std::string& name, bool markdown) {
+  const IntegratorEntry* entry = nullptr;
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) entry = &e;
+  std::vector<KeyDoc> keys = integratorKeys(name);
+  std::ostringstream out;
+  auto allowed = [](const KeyDoc& k) { return k.allowed.empty() ? std::string("any") : k.allowed; };
+  auto meaning = [](const KeyDoc& k) { return k.condition.empty() ? k.meaning : k.meaning + " (" + k.condition + " only)"; };
+  if (markdown) {
+    out << "## " << name << "\n\n" << entry->summary << ".\n\n| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n";
+    for (const auto& k : keys)
+      out << "| `" << k.key << "` | " << k.type << " | `" << k.fallback << "` | " << allowed(k) << " | " << meaning(k) << " |\n";
+    return out.str();
+  }
+  out << name << ": " << entry->summary << "\n";
+  size_t w[4] = {3, 4, 7, 7};
+  for (const auto& k : keys) {
+    w[0] = std::max(w[0], k.key.size()), w[1] = std::max(w[1], k.type.size());
+    w[2] = std::max(w[2], k.fallback.size()), w[3] = std::max(w[3], allowed(k).size());
+  }
+  auto row = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d,
+                 const std::string& e) {
+    out << "  " << std::left << std::setw(int(w[0])) << a << "  " << std::setw(int(w[1])) << b << "  "
+        << std::setw(int(w[2])) << c << "  " << std::setw(int(w[3])) << d << "  " << e << "\n";
+  };
+  row("key", "type", "default", "allowed", "meaning");
+  for (const auto& k : keys) row(k.key, k.type, k.fallback, allowed(k), meaning(k));
+  return out.str();
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, Params& params, const std::string& file,

@@ -23,6 +23,12 @@ struct IntegratorEntry {
 };
 
 const std::vector<IntegratorEntry>& integratorRegistry();
+// Every key the integrator reads, with type, default, range and meaning: its
+// settings reader run on an empty mapping (Params::describing), so the list
+// cannot drift from what is read. Throws for an unknown name.
+std::vector<KeyDoc> integratorKeys(const std::string& name);
+// The table `lightbench integrators NAME` prints; markdown for docs/integrators.md.
+std::string formatIntegratorKeys(const std::string& name, bool markdown);
 // `params` holds the integrator's keys (without `name`). Unknown names list the
 // valid ones.
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, Params& params, const std::string& file = "",

@@ -69,7 +69,11 @@ int lightbenchMain(int argc, char** argv) {
   runCmd->add_option("--results", run.results, "Folder for run outputs and cached references (default: results)");
   runCmd->add_flag("--no-report", run.noReport, "Skip the plots and HTML report");
 
-  app.add_subcommand("integrators", "List the available integrators.");
+  std::string integratorName;
+  bool markdown = false;
+  CLI::App* integrators = app.add_subcommand("integrators", "List the integrators, or one integrator's keys with type, default, range and meaning.");
+  integrators->add_option("name", integratorName, "An integrator's name: list its keys");
+  integrators->add_flag("--markdown", markdown, "The key table as markdown (docs/integrators.md is this for every integrator)");
 
   try {
     app.parse(argc, argv);
@@ -84,8 +88,14 @@ int lightbenchMain(int argc, char** argv) {
     return 2;
   }
   if (app.got_subcommand("integrators")) {
-    for (const auto& e : integratorRegistry()) std::cout << e.name << "\t" << e.summary << "\n";
-    return 0;
+    return withErrorExitCodes([&] {
+      if (!integratorName.empty()) std::cout << formatIntegratorKeys(integratorName, markdown);
+      else if (markdown)
+        for (const auto& e : integratorRegistry()) std::cout << formatIntegratorKeys(e.name, true) << "\n";
+      else
+        for (const auto& e : integratorRegistry()) std::cout << e.name << "\t" << e.summary << "\n";
+      return 0;
+    });
   }
   if (app.got_subcommand("run")) return runExperimentCommand(run);
   return runRender(r);

@@ -8,11 +8,14 @@ namespace lb {
 BdptSettings BdptSettings::read(Params& p) {
   BdptSettings s;
   s.length = PathLength::read(p);
-  std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"});
+  std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"},
+                                "MIS heuristic over the (s,t) strategies (Veach 1997, 10.2)");
   using bidir::MisWeighting;
   s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
-  s.strategyImages = p.getInt("strategy_images", 0);
-  if (s.strategyImages < 0 || s.strategyImages > 8) p.fail("strategy_images", "must be in [0, 8] (path length in segments)");
+  s.strategyImages = p.getInt("strategy_images", 0,
+                              {"write each strategy's weighted and unweighted image up to this path length in "
+                               "segments; 0: none",
+                               Range::between(0, 8)});
   p.checkUnused();
   return s;
 }

@@ -11,28 +11,32 @@ namespace lb {
 
 IrradianceCacheSettings IrradianceCacheSettings::read(Params& p) {
   IrradianceCacheSettings s;
-  s.cache.a = p.getFloat("a", 0.15f);
   // Above 1, Ward's weight would accept records whose normal is turned more
   // than 90° away (sqrt(1 − n·nᵢ) < a): records from other walls.
-  if (!(s.cache.a > 0) || s.cache.a > 1) p.fail("a", "must be in (0, 1]");
-  s.cache.spacingInPixels = p.getChoice("spacing", "pixels", {"pixels", "world"}) == "pixels";
-  s.cache.minSpacing = p.getFloat("min_spacing", 2);
-  if (s.cache.minSpacing < 0) p.fail("min_spacing", "must not be negative");
-  s.cache.maxSpacing = p.getFloat("max_spacing", 64);
-  if (!(s.cache.maxSpacing >= s.cache.minSpacing) || !(s.cache.maxSpacing > 0))
-    p.fail("max_spacing", "must be positive and at least min_spacing");
-  s.strata.theta = p.getInt("theta_strata", 16);
-  if (s.strata.theta < 1 || s.strata.theta > 1024) p.fail("theta_strata", "must be between 1 and 1024");
-  s.strata.phi = p.getInt("phi_strata", 48);
-  if (s.strata.phi < 1 || s.strata.phi > 1024) p.fail("phi_strata", "must be between 1 and 1024");
-  s.cache.gradients = p.getBool("gradients", true);
-  s.cache.neighbourClamping = p.getBool("neighbour_clamping", true);
-  s.prepassLevels = p.getInt("prepass_levels", 3);
-  if (s.prepassLevels < 0 || s.prepassLevels > 8) p.fail("prepass_levels", "must be between 0 and 8");
-  s.base = p.getChoice("base", "path", {"path", "photon"}) == "path" ? CacheBase::Path : CacheBase::Photon;
-  s.recordImage = p.getBool("record_image", true);
+  s.cache.a = p.getFloat("a", 0.15f, {"Ward's error bound: larger reuses records further away (Ward 1988, Eq. 5)",
+                                      Range::openClosed(0, 1)});
+  s.cache.spacingInPixels = p.getChoice("spacing", "pixels", {"pixels", "world"},
+                                        "units of min_spacing and max_spacing") == "pixels";
+  s.cache.minSpacing = p.getFloat("min_spacing", 2, {"smallest record radius", Range::atLeast(0)});
+  s.cache.maxSpacing = p.getFloat("max_spacing", 64, {"largest record radius (at least min_spacing)", Range::above(0)});
+  if (!(s.cache.maxSpacing >= s.cache.minSpacing)) p.fail("max_spacing", "must be at least min_spacing");
+  s.strata.theta = p.getInt("theta_strata", 16, {"hemisphere strata in theta per record", Range::between(1, 1024)});
+  s.strata.phi = p.getInt("phi_strata", 48, {"hemisphere strata in phi per record", Range::between(1, 1024)});
+  s.cache.gradients = p.getBool("gradients", true, "rotation and translation gradients (Ward & Heckbert 1992)");
+  s.cache.neighbourClamping = p.getBool("neighbour_clamping", true,
+                                        "clamp a record's radius by its neighbours' (Krivanek et al. 2008)");
+  s.prepassLevels = p.getInt("prepass_levels", 3, {"coarse-to-fine prepass levels", Range::between(0, 8)});
+  s.base = p.getChoice("base", "path", {"path", "photon"},
+                       "what a record's hemisphere rays read: path-traced radiance or the photon map") == "path"
+               ? CacheBase::Path
+               : CacheBase::Photon;
+  s.recordImage = p.getBool("record_image", true, "also write an image of the record positions");
   s.length = PathLength::read(p);
-  if (s.base == CacheBase::Photon) s.photonMaps = PhotonMapSettings::read(p);  // else its keys are rejected as unknown
+  // Else its keys are rejected as unknown; listed when describing (base: photon only).
+  if (s.base == CacheBase::Photon || p.describing()) {
+    p.setCondition("base: photon");
+    s.photonMaps = PhotonMapSettings::read(p);
+  }
   p.checkUnused();
   return s;
 }

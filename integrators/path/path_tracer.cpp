@@ -7,12 +7,14 @@ namespace lb {
 
 PathTracerSettings PathTracerSettings::read(Params& p) {
   PathTracerSettings s;
-  std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"});
+  std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"},
+                                     "how the next direction is sampled at a surface");
   s.sampling = sampling == "bsdf" ? DirectionSampling::Bsdf
                : sampling == "cosine" ? DirectionSampling::Cosine
                                       : DirectionSampling::Uniform;
-  s.nee = p.getBool("nee", true);
-  std::string mis = p.getChoice("mis", "power", {"power", "balance", "none"});
+  s.nee = p.getBool("nee", true, "next-event estimation: a shadow ray to a sampled light point at each vertex");
+  std::string mis = p.getChoice("mis", "power", {"power", "balance", "none"},
+                                "weights of NEE against the sampled direction hitting a light (Veach 1997, 9.2)");
   s.mis = mis == "power" ? MisHeuristic::Power : mis == "balance" ? MisHeuristic::Balance : MisHeuristic::None;
   s.length = PathLength::read(p);
   p.checkUnused();

@@ -9,14 +9,15 @@ namespace lb {
 PhotonSettings PhotonSettings::read(Params& p) {
   PhotonSettings s;
   static_cast<PhotonMapSettings&>(s) = PhotonMapSettings::read(p);
-  std::string filter = p.getChoice("filter", "cone", {"cone", "epanechnikov", "box"});
+  std::string filter = p.getChoice("filter", "cone", {"cone", "epanechnikov", "box"},
+                                   "density-estimation kernel (Jensen 2001, 7.2)");
   s.query.filter = filter == "cone" ? PhotonFilter::Cone : filter == "box" ? PhotonFilter::Box : PhotonFilter::Epanechnikov;
-  s.finalGather = p.getInt("final_gather", 8);
-  if (s.finalGather < 0) p.fail("final_gather", "must not be negative");
-  s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < 0) p.fail("max_depth", "must not be negative");
-  s.densityImages = p.getBool("density_images", false);
-  s.stats = p.getBool("stats", false);
+  s.finalGather = p.getInt("final_gather", 8,
+                           {"gather rays per camera hit into the global map; 0: read the global map directly",
+                            Range::atLeast(0)});
+  s.maxDepth = p.getInt("max_depth", 32, {"longest path in segments, camera to light", Range::atLeast(0)});
+  s.densityImages = p.getBool("density_images", false, "also write the photon densities as images");
+  s.stats = p.getBool("stats", false, "print the maps' sizes and lookup counts");
   p.checkUnused();
   return s;
 }

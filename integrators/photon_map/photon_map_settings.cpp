@@ -11,18 +11,20 @@ PhotonMapSettings PhotonMapSettings::read(Params& p) {
   PhotonMapSettings s;
   ConfigError where = p.error("global_photons", "");
   s.file = where.file(), s.line = where.line(), s.key = where.key();
-  int global = p.getInt("global_photons", 200000), caustic = p.getInt("caustic_photons", 200000);
-  if (global < 0) p.fail("global_photons", "must not be negative");
-  if (caustic < 0) p.fail("caustic_photons", "must not be negative");
+  int global = p.getInt("global_photons", 200000,
+                        {"photon paths traced for the global map (indirect light)", Range::atLeast(0)});
+  int caustic = p.getInt("caustic_photons", 200000,
+                         {"photon paths traced for the caustic map (light via specular chains)", Range::atLeast(0)});
   s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
-  int k = p.getInt("k", 30);
+  int k = p.getInt("k", 30, {"photons per density estimate: 0 (all within max_radius) or >= 2", Range::atLeast(0)});
   // The k-th photon only sets the radius (photon_map.h): k = 1 estimates nothing.
   // k = 0: no k-th photon, the disc is always max_radius (fixed-radius estimate).
   if (k < 0 || k == 1)
     p.fail("k", "must be 0 (every photon within max_radius) or at least 2 (the k-th nearest photon only sets the radius)");
   s.query.k = k == 0 ? std::numeric_limits<size_t>::max() : size_t(k);
-  s.maxRadius = p.getFloat("max_radius", 0);
-  if (s.maxRadius < 0) p.fail("max_radius", "must not be negative (0: automatic)");
+  s.maxRadius = p.getFloat("max_radius", 0,
+                           {"largest gather radius in world units; 0: 5 % of the scene's bounding radius",
+                            Range::atLeast(0)});
   return s;
 }
 

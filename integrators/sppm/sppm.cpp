@@ -12,18 +12,18 @@ namespace lb {
 
 SppmSettings SppmSettings::read(Params& p) {
   SppmSettings s;
-  int photons = p.getInt("photons_per_pass", 100000);
-  if (photons < 1) p.fail("photons_per_pass", "must be at least 1");
+  int photons = p.getInt("photons_per_pass", 100000, {"photon paths traced per pass", Range::atLeast(1)});
   s.photonsPerPass = size_t(photons);
-  s.alpha = p.getFloat("alpha", 0.7f);
-  if (!(s.alpha > 0 && s.alpha < 1)) p.fail("alpha", "must be in (0, 1)");
-  s.initialRadius = p.getFloat("initial_radius", 0);
-  if (s.initialRadius < 0) p.fail("initial_radius", "must not be negative (0: relative_radius)");
-  s.relativeRadius = p.getFloat("relative_radius", 0.02f);
-  if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
-  s.maxDepth = p.getInt("max_depth", 32);
-  if (s.maxDepth < 0) p.fail("max_depth", "must not be negative");
-  s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"}) == "grid";
+  s.alpha = p.getFloat("alpha", 0.7f,
+                       {"fraction of new photons kept as the radius shrinks (Hachisuka & Jensen 2009, Eq. 6)",
+                        Range::open(0, 1)});
+  s.initialRadius = p.getFloat("initial_radius", 0,
+                               {"first pass's gather radius in world units; 0: relative_radius", Range::atLeast(0)});
+  s.relativeRadius = p.getFloat("relative_radius", 0.02f,
+                                {"first radius as a fraction of the scene's bounding radius", Range::above(0)});
+  s.maxDepth = p.getInt("max_depth", 32, {"longest path in segments, camera to light", Range::atLeast(0)});
+  s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"},
+                             "how visible points near a photon are found: a hash grid or FLANN's kd-tree") == "grid";
   p.checkUnused();
   return s;
 }

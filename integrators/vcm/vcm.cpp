@@ -14,18 +14,22 @@ using bidir::VertexType;
 
 VcmSettings VcmSettings::read(Params& p) {
   VcmSettings s;
-  std::string mode = p.getChoice("mode", "vcm", {"vcm", "bpm", "ppm", "bpt"});
+  std::string mode = p.getChoice("mode", "vcm", {"vcm", "bpm", "ppm", "bpt"},
+                                 "strategies: all, merging only (bidirectional / progressive photon mapping), or "
+                                 "connections only (Georgiev et al. 2012)");
   s.mode = mode == "vcm" ? VcmMode::Vcm : mode == "bpm" ? VcmMode::Bpm : mode == "ppm" ? VcmMode::Ppm : VcmMode::Bpt;
   s.length = PathLength::read(p);
-  std::string mis = p.getChoice("mis", "power", {"power", "balance"});
+  std::string mis = p.getChoice("mis", "power", {"power", "balance"}, "MIS heuristic over all strategies");
   s.mis = mis == "power" ? bidir::MisWeighting::Power : bidir::MisWeighting::Balance;
-  s.radius = p.getFloat("radius", 0);
-  if (s.radius < 0) p.fail("radius", "must not be negative (0: relative_radius × the scene's bounding radius)");
-  s.relativeRadius = p.getFloat("relative_radius", s.relativeRadius);
-  if (!(s.relativeRadius > 0)) p.fail("relative_radius", "must be positive");
-  s.alpha = p.getFloat("alpha", s.alpha);
-  if (!(s.alpha > 0 && s.alpha <= 1)) p.fail("alpha", "must be in (0, 1]");
-  s.gridLookup = p.getChoice("lookup", "flann", {"grid", "flann"}) == "grid";
+  s.radius = p.getFloat("radius", 0,
+                        {"first pass's merging radius in world units; 0: relative_radius", Range::atLeast(0)});
+  s.relativeRadius = p.getFloat("relative_radius", s.relativeRadius,
+                                {"first radius as a fraction of the scene's bounding radius", Range::above(0)});
+  s.alpha = p.getFloat("alpha", s.alpha,
+                       {"radius after n passes: r1 n^((alpha-1)/2); 1 keeps it fixed (Georgiev et al. 2012, Eq. 16)",
+                        Range::openClosed(0, 1)});
+  s.gridLookup = p.getChoice("lookup", "flann", {"grid", "flann"},
+                             "how light vertices near a camera vertex are found: a hash grid or FLANN's kd-tree") == "grid";
   p.checkUnused();
   return s;
 }
