@@ -6,12 +6,12 @@
 #include <flann/config.h>
 #include <glm/detail/setup.hpp>
 #include <tbb/version.h>
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 #include <cmath>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <thread>
 #include "core/image.h"
 #include "integrators/registry.h"
@@ -20,31 +20,31 @@ namespace lb {
 
 namespace {
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else out += c;
-    }
+// A YAML value as JSON: mappings, lists, and scalars as the number or bool
+// they spell (YAML 1.2's core schema), else as strings. Parameters in meta.json
+// are then values a notebook can use, not YAML text inside a JSON string.
+nlohmann::json yamlToJson(const YAML::Node& n) {
+  if (!n || n.IsNull()) return nullptr;
+  if (n.IsSequence()) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& item : n) a.push_back(yamlToJson(item));
+    return a;
   }
-  return out + "\"";
+  if (n.IsMap()) {
+    nlohmann::json o = nlohmann::json::object();
+    for (auto it = n.begin(); it != n.end(); ++it) o[it->first.Scalar()] = yamlToJson(it->second);
+    return o;
+  }
+  const std::string& text = n.Scalar();
+  if (n.Tag() == "!") return text;  // quoted in the YAML: a string
+  if (text == "true" || text == "false") return text == "true";
+  char* end = nullptr;
+  long long i = std::strtoll(text.c_str(), &end, 10);
+  if (!text.empty() && *end == '\0') return i;
+  double d = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0' && std::isfinite(d)) return d;
+  return text;
 }
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
 
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
@@ -61,65 +61,69 @@ std::string hostName() {
 }
 
 std::string write(const RunMeta& m, const Experiment& e, bool finished) {
-  std::ostringstream j;
+  using nlohmann::json;
   std::time_t now = std::time(nullptr);
   char ts[32];
   std::strftime(ts, sizeof ts, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  j << "{\n";
-  j << "  \"experiment\": " << jsonString(e.name) << ",\n";
-  j << "  \"experiment_file\": " << jsonString(e.file) << ",\n";
-  j << "  \"lightbench\": " << jsonString(std::string(LIGHTBENCH_VERSION)) << ",\n";
-  j << "  \"git_commit\": " << jsonString(LIGHTBENCH_GIT) << ",\n";
-  j << "  \"started\": " << jsonString(m.started) << ",\n";
-  j << "  \"experiment_hash\": " << jsonString(m.experimentHash) << ",\n";
-  j << "  \"finished\": " << (finished ? jsonString(ts) : "null") << ",\n";
-  j << "  \"machine\": {\"host\": " << jsonString(hostName()) << ", \"cpu\": " << jsonString(cpuModel())
-    << ", \"cores\": " << std::thread::hardware_concurrency() << "},\n";
-  j << "  \"threads_per_run\": " << m.threadsPerRun << ",\n  \"jobs\": " << m.jobs << ",\n";
-  j << "  \"budget\": {\"seconds\": " << e.budget.seconds << ", \"spp\": " << e.budget.spp << "},\n";
-  j << "  \"repeats\": " << e.repeats << ",\n  \"seeds\": [";
-  for (int r = 0; r < e.repeats; ++r) j << (r ? ", " : "") << e.seed + uint64_t(r) * 7919;
-  j << "],\n  \"metrics\": [";
-  for (size_t i = 0; i < e.metrics.size(); ++i) j << (i ? ", " : "") << jsonString(e.metrics[i]);
-  j << "],\n  \"relmse_epsilon\": " << e.metricSettings.relEpsilon
-    << ",\n  \"outlier_percentile\": " << e.metricSettings.outlierPercentile << ",\n";
-  j << "  \"scenes\": [";
-  for (size_t i = 0; i < e.scenes.size(); ++i) {
-    const auto& s = e.scenes[i];
+  json j;
+  j["experiment"] = e.name;
+  j["experiment_file"] = e.file;
+  j["lightbench"] = LIGHTBENCH_VERSION;
+  j["git_commit"] = LIGHTBENCH_GIT;
+  j["started"] = m.started;
+  j["experiment_hash"] = m.experimentHash;
+  j["finished"] = finished ? json(ts) : json(nullptr);
+  j["machine"] = {{"host", hostName()}, {"cpu", cpuModel()}, {"cores", std::thread::hardware_concurrency()}};
+  j["threads_per_run"] = m.threadsPerRun;
+  j["jobs"] = m.jobs;
+  j["budget"] = {{"seconds", e.budget.seconds}, {"spp", e.budget.spp}};
+  j["repeats"] = e.repeats;
+  j["seeds"] = json::array();
+  for (int r = 0; r < e.repeats; ++r) j["seeds"].push_back(e.seed + uint64_t(r) * 7919);
+  j["metrics"] = e.metrics;
+  j["relmse_epsilon"] = e.metricSettings.relEpsilon;
+  j["outlier_percentile"] = e.metricSettings.outlierPercentile;
+  j["scenes"] = json::array();
+  for (const auto& s : e.scenes) {
     auto key = m.referenceKeys.find(s.name);
-    j << (i ? ",\n    " : "\n    ") << "{\"name\": " << jsonString(s.name) << ", \"file\": " << jsonString(s.path)
-      << ", \"overrides\": " << jsonString(flowYaml(s.overrides)) << ", \"reference\": "
-      << jsonString(key == m.referenceKeys.end() ? "" : key->second) << ", \"reference_integrator\": "
-      << jsonString(s.reference.file.empty() ? s.reference.integrator + " " + flowYaml(s.reference.params) + " " +
-                                                   referenceBudget(s.reference)
-                                             : "file")
-      << ", \"reference_used\": " << jsonString(m.referenceUsed.count(s.name) ? m.referenceUsed.at(s.name) : "")
-      << ", \"reference_rmse_floor\": "
-      << (m.referenceRmseFloor.count(s.name) && std::isfinite(m.referenceRmseFloor.at(s.name))
-              ? number(m.referenceRmseFloor.at(s.name))
-              : std::string("null"))
-      << ", \"crop\": " << (s.crop.empty() ? std::string("null") : "[" + std::to_string(s.crop.x0) + ", " +
-                                                                   std::to_string(s.crop.y0) + ", " +
-                                                                   std::to_string(s.crop.x1) + ", " +
-                                                                   std::to_string(s.crop.y1) + "]")
-      << "}";
+    json scene = {{"name", s.name}, {"file", s.path}, {"overrides", yamlToJson(s.overrides)}};
+    scene["reference"] = key == m.referenceKeys.end() ? "" : key->second;
+    if (s.reference.file.empty())
+      scene["reference_integrator"] = {{"name", s.reference.integrator},
+                                       {"params", yamlToJson(s.reference.params)},
+                                       {"budget", referenceBudget(s.reference)}};
+    else
+      scene["reference_integrator"] = "file";
+    scene["reference_used"] = m.referenceUsed.count(s.name) ? m.referenceUsed.at(s.name) : "";
+    scene["reference_exr"] = s.name + "__reference.exr";  // in the run folder
+    auto floor = m.referenceRmseFloor.find(s.name);
+    scene["reference_rmse_floor"] =
+        floor != m.referenceRmseFloor.end() && std::isfinite(floor->second) ? json(floor->second) : json(nullptr);
+    scene["crop"] = s.crop.empty() ? json(nullptr) : json({s.crop.x0, s.crop.y0, s.crop.x1, s.crop.y1});
+    j["scenes"].push_back(scene);
   }
-  j << "\n  ],\n  \"configurations\": [";
-  for (size_t i = 0; i < e.configurations.size(); ++i) {
-    const auto& c = e.configurations[i];
+  j["configurations"] = json::array();
+  for (const auto& c : e.configurations) {
     Params p(c.params, e.file, "configurations");
     makeIntegrator(c.integrator, p);  // resolves defaults
-    YAML::Node resolved = p.resolved();
-    j << (i ? ",\n    " : "\n    ") << "{\"label\": " << jsonString(c.label) << ", \"integrator\": "
-      << jsonString(c.integrator) << ", \"resolved_parameters\": " << jsonString(flowYaml(resolved)) << "}";
+    json conf = {{"label", c.label}, {"integrator", c.integrator}, {"resolved_parameters", yamlToJson(p.resolved())}};
+    if (!c.sweepGroup.empty()) conf["sweep"] = {{"group", c.sweepGroup}, {"values", yamlToJson(c.sweepValues)}};
+    for (const auto& entry : integratorRegistry())
+      if (entry.name == c.integrator) conf["unbiased"] = entry.unbiased(c.params);
+    j["configurations"].push_back(conf);
   }
-  j << "\n  ],\n  \"libraries\": {\"embree\": " << jsonString(RTC_VERSION_STRING) << ", \"tbb\": "
-    << jsonString(TBB_VERSION_STRING) << ", \"openexr\": " << jsonString(OPENEXR_VERSION_STRING)
-    << ", \"glm\": " << GLM_VERSION << ", \"openmesh\": " << jsonString(std::to_string(OM_VERSION >> 16) + "." + std::to_string((OM_VERSION >> 8) & 0xff))
-    << ", \"flann\": " << jsonString(FLANN_VERSION_)
-    << ", \"yaml-cpp\": \"0.7 (Debian 12's package; the library has no version macro)\"},\n";
-  j << "  \"experiment_source\": " << jsonString(flowYaml(e.source)) << "\n}\n";
-  return j.str();
+  j["libraries"] = {{"embree", RTC_VERSION_STRING},
+                    {"tbb", TBB_VERSION_STRING},
+                    {"openexr", OPENEXR_VERSION_STRING},
+                    {"glm", GLM_VERSION},
+                    {"openmesh", std::to_string(OM_VERSION >> 16) + "." + std::to_string((OM_VERSION >> 8) & 0xff)},
+                    {"flann", FLANN_VERSION_},
+                    {"yaml-cpp", "0.7 (Debian 12's package; the library has no version macro)"},
+                    {"nlohmann-json", std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
+                                          std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
+                                          std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
+  j["experiment_source"] = yamlToJson(e.source);
+  return j.dump(2) + "\n";
 }
 
 }  // namespace
@@ -140,6 +144,14 @@ RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPer
 
 void finishMeta(const RunMeta& m, const Experiment& e, const std::string& runDir) {
   writeTextFile((std::filesystem::path(runDir) / "meta.json").string(), write(m, e, true));
+}
+
+std::string readExperimentHash(const std::string& runDir) {
+  std::ifstream in(std::filesystem::path(runDir) / "meta.json");
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("experiment_hash") || !j["experiment_hash"].is_string())
+    return "";
+  return j["experiment_hash"].get<std::string>();
 }
 
 }  // namespace lb

@@ -19,5 +19,8 @@ struct RunMeta {
 RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs,
                   const std::string& experimentHash);
 void finishMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir);
+// The experiment_hash of a run folder's meta.json ("" if it has none or the
+// file is not JSON): what --resume compares.
+std::string readExperimentHash(const std::string& runDir);
 
 }  // namespace lb

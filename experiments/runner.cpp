@@ -1,4 +1,5 @@
 #include "experiments/runner.h"
+#include "experiments/report_step.h"
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <unistd.h>
@@ -226,10 +227,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::optional<RunLock> lock;
   if (!runDir.empty()) {
     if (fs::exists(runDir / "meta.json")) {
-      std::ifstream in(runDir / "meta.json");
-      std::stringstream text;
-      text << in.rdbuf();
-      if (text.str().find("\"experiment_hash\": \"" + experimentHash + "\"") == std::string::npos)
+      if (readExperimentHash(runDir.string()) != experimentHash)
         throw ConfigError(e.file, 0, "--resume",
                           "the experiment, its budget or its references changed since " + runDir.string() +
                               " was started; run without --resume to start a new run");
@@ -297,6 +295,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     meta.referenceRmseFloor[s.name] = referenceFloors[si];
     meta.referenceKeys[s.name] = referenceIds[si];
     meta.referenceUsed[s.name] = referenceDescriptions[si];
+    // The reference beside the run's images: the folder is complete for
+    // lightbench.load_run and the report's viewer.
+    writeExr((runDir / (s.name + "__reference.exr")).string(), references[si]);
     writePng((runDir / (s.name + "__reference.png")).string(), references[si]);
     if (!s.crop.empty())
       writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(references[si], s.crop, 4));
@@ -421,12 +422,10 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";
   if (o.report) {
-    std::string cmd = "/usr/bin/python3 " + std::string(LIGHTBENCH_SOURCE_DIR) + "/experiments/report.py " +
-                      (runDir / "log.csv").string();
-    if (std::system(cmd.c_str()) != 0)
-      std::cerr << "warning: the report script failed (is python3-matplotlib installed? scripts/install-deps.sh "
-                   "installs it); the log is complete: "
-                << (runDir / "log.csv").string() << "\n";
+    std::string problem = runReportScript(reportInterpreter(o.python), runDir.string());
+    if (!problem.empty())
+      std::cerr << "warning: no report: " << problem << "; the log is complete: " << (runDir / "log.csv").string()
+                << "\n";
     else
       std::cerr << "plot:   " << (runDir / "rmse_vs_time.png").string() << "\nreport: "
                 << (runDir / "report.html").string() << "\n";

@@ -12,6 +12,7 @@ struct RunnerOptions {
   bool resume = false;   // continue the latest run of this experiment
   int jobs = 1;          // runs at once, each with cores/jobs threads
   bool report = true;    // call report.py at the end
+  std::string python;    // its interpreter ("" : reportInterpreter's default)
 };
 
 // Returns the run folder, results/<name>/<run-id>/.

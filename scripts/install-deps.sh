@@ -9,6 +9,9 @@ packages=(
   libopenmesh-dev libyaml-cpp-dev libcli11-dev libpng-dev libpugixml-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
+  nlohmann-json3-dev pybind11-dev python3-dev  # meta.json, the Python package
+  python3-pandas python3-pytest                # lightbench.load_run, its tests
+  chromium                                      # the report viewer's headless check
   clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/fuzz.sh
 )
 

@@ -2,6 +2,7 @@
 // monotonicity, images and report, reference caching, kill and resume, and
 // bad experiment files (through the real binary).
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -20,6 +21,8 @@ namespace fs = std::filesystem;
 
 namespace lb {
 namespace {
+
+void expectMetaSchema(const nlohmann::json& m);  // below the test that uses it
 
 std::string readFile(const fs::path& p) {
   std::stringstream ss;
@@ -164,9 +167,51 @@ TEST_F(Runner, WritesLogImagesPlotsAndReport) {
   EXPECT_EQ(images, 3 /* plots */ + 2 * (1 + 2 * 2) /* full and crop: reference + 2 × (image, error) */);
   for (const char* label : {"<figcaption>bsdf</figcaption>", "<figcaption>mis — error</figcaption>"})
     EXPECT_NE(report.find(label), std::string::npos) << label;
-  std::string meta = readFile(run / "meta.json");
-  for (const char* key : {"\"git_commit\"", "\"machine\"", "\"seeds\": [1, 7920]", "\"resolved_parameters\"", "\"embree\""})
-    EXPECT_NE(meta.find(key), std::string::npos) << key;
+  expectMetaSchema(nlohmann::json::parse(readFile(run / "meta.json")));
+}
+
+// meta.json's schema (issue 15): real JSON, parameters as JSON values (not
+// YAML text inside strings), every field a notebook relies on with its type.
+void expectMetaSchema(const nlohmann::json& m) {
+  using T = nlohmann::json::value_t;
+  auto is = [](const nlohmann::json& j, const char* key, std::initializer_list<T> types) {
+    ASSERT_TRUE(j.contains(key)) << key;
+    bool ok = false;
+    for (T t : types) ok = ok || j[key].type() == t || (t == T::number_float && j[key].is_number());
+    EXPECT_TRUE(ok) << key << " is " << j[key].type_name();
+  };
+  for (const char* k : {"experiment", "experiment_file", "lightbench", "git_commit", "started", "experiment_hash"})
+    is(m, k, {T::string});
+  is(m, "finished", {T::string});  // null while running
+  is(m, "machine", {T::object});
+  is(m["machine"], "cores", {T::number_unsigned, T::number_integer});
+  for (const char* k : {"threads_per_run", "jobs", "repeats"}) is(m, k, {T::number_unsigned, T::number_integer});
+  is(m, "budget", {T::object});
+  is(m["budget"], "seconds", {T::number_float});
+  EXPECT_EQ(m["seeds"], nlohmann::json({1, 7920}));
+  is(m, "metrics", {T::array});
+  is(m, "relmse_epsilon", {T::number_float});
+  is(m, "libraries", {T::object});
+  is(m["libraries"], "embree", {T::string});
+  is(m, "experiment_source", {T::object});
+  ASSERT_TRUE(m["scenes"].is_array() && !m["scenes"].empty());
+  for (const auto& s : m["scenes"]) {
+    for (const char* k : {"name", "file", "reference", "reference_used", "reference_exr"}) is(s, k, {T::string});
+    is(s, "reference_rmse_floor", {T::number_float, T::null});
+    is(s, "crop", {T::array, T::null});
+    is(s, "reference_integrator", {T::object, T::string});
+  }
+  ASSERT_TRUE(m["configurations"].is_array() && !m["configurations"].empty());
+  for (const auto& c : m["configurations"]) {
+    is(c, "label", {T::string});
+    is(c, "integrator", {T::string});
+    is(c, "unbiased", {T::boolean});
+    is(c, "resolved_parameters", {T::object});
+    // Values, typed: the path tracer's nee is a bool and max_depth a number.
+    EXPECT_TRUE(c["resolved_parameters"]["nee"].is_boolean()) << c.dump();
+    EXPECT_TRUE(c["resolved_parameters"]["max_depth"].is_number_integer()) << c.dump();
+    EXPECT_TRUE(c["resolved_parameters"]["mis"].is_string()) << c.dump();
+  }
 }
 
 TEST_F(Runner, ReportCopesWithOneRepeatAndUnevenSnapshots) {
