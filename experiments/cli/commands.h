@@ -1,9 +1,13 @@
 #pragma once
 // Sub-commands of the `lightbench` program. Each returns the process exit code:
 // 0 success, 1 runtime failure, 2 bad input (a ConfigError, with file:line:key).
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
 #include <vector>
+#include "core/film.h"
+#include "core/image.h"
+#include "integrators/render_loop.h"
 
 namespace lb {
 
@@ -21,7 +25,13 @@ struct RenderArgs {
   bool quiet = false;
   double worldScale = 0;               // > 0: the scene scaled (camera, lights and radii too)
   bool strict = false;                 // an imported scene's unsupported elements are errors
+  std::string resolution;              // "WxH": replaces the scene's film size
+  float exposure = 0;                  // the PNG preview's, in stops
+  std::vector<std::string> aovs;       // layers: albedo, normal, depth, variance, spp
 };
+
+// The AOV names --aov accepts.
+const std::vector<std::string>& aovNames();
 
 // Runs a command body: a ConfigError prints "error: file:line: key: ..." and
 // gives exit code 2, any other exception exit code 1.
@@ -29,14 +39,31 @@ int withErrorExitCodes(const std::function<int()>& body);
 
 int runRender(const RenderArgs& args);
 
+// A render held in memory: what `lightbench render` writes, before writing
+// (the Python package's render() returns it as an array and a dict).
+struct RenderedImage {
+  Image image;
+  std::string resolvedYaml;  // the resolved configuration (<name>.config.yaml)
+  RenderReport report;
+  std::vector<NonFiniteSample> firstNonFinite;  // to replay with --pixel/--sample
+  std::vector<ExrLayer> layers;                 // the AOVs asked for, then the integrator's layers
+  std::map<std::string, std::string> attributes;  // the EXR header's lightbench/* metadata
+};
+// Loads, renders within the budget and returns the image; throws ConfigError
+// for bad input. args.output and the replay fields are not used.
+RenderedImage renderToMemory(const RenderArgs& args);
+
 struct RunArgs {
   std::string experiment;
   bool quick = false, resume = false, noReport = false;
   int jobs = 1;
   std::string results = "results";
+  std::string python;  // the report's interpreter
 };
 int runExperimentCommand(const RunArgs& args);
 int lightbenchMain(int argc, char** argv);
+// The bash completion script for `app` (completion.cpp).
+std::string bashCompletion(const CLI::App& app);
 std::string versionString();
 
 }  // namespace lb

@@ -3,12 +3,16 @@
 // render, each through a temporary name and a rename.
 #include <tbb/global_control.h>
 #include <unistd.h>
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include "core/aov.h"
+#include "core/format.h"
 #include "core/scene_loader.h"
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
+#include "experiments/experiment.h"
 #include "integrators/registry.h"
 #include "integrators/render_loop.h"
 
@@ -75,6 +79,16 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
   return c;
 }
 
+// `lightbench render experiment.yaml`: say which command was meant instead of
+// reporting the experiment's keys as unknown scene keys.
+void checkNotAnExperiment(const std::string& path) {
+  if (std::filesystem::path(path).extension() == ".xml") return;
+  YAML::Node root = loadYamlFile(path);
+  if (root.IsMap() && root["configurations"] && !root["camera"])
+    throw ConfigError(path, root["configurations"].Mark().line + 1, "configurations",
+                      "this is an experiment, not a scene: run it with 'lightbench run " + path + "'");
+}
+
 std::string stemPath(const std::string& exr) {
   std::filesystem::path p(exr);
   return (p.parent_path() / p.stem()).string();
@@ -96,16 +110,126 @@ void checkOutputs(const std::string& output) {
     if (fs::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
 }
 
-void printSummary(const RenderReport& rep, const Film& film) {
-  std::cerr << "done: " << rep.seconds << " s (preprocess " << rep.preprocessSeconds << " s), " << rep.passes
-            << " spp, " << double(rep.rays) / std::max(rep.seconds - rep.preprocessSeconds, 1e-9) * 1e-6
-            << " Mrays/s, NaN/Inf samples: " << rep.nonFinite << "\n";
+void printSummary(const RenderedImage& r) {
+  const RenderReport& rep = r.report;
+  std::cerr << "done: " << formatSeconds(rep.seconds) << " (preprocess " << formatSeconds(rep.preprocessSeconds)
+            << "), " << rep.passes << " spp, "
+            << formatCount(double(rep.rays) / std::max(rep.seconds - rep.preprocessSeconds, 1e-9), "rays/s")
+            << ", NaN/Inf samples: " << rep.nonFinite << "\n";
   // A budget shorter than the preprocess still renders one pass: say so, or
   // an equal-time comparison would silently be unequal.
   std::string over = overBudgetMessage(rep);
   if (!over.empty()) std::cerr << "warning: " << over << "\n";
-  for (const auto& s : film.firstNonFinite())
+  for (const auto& s : r.firstNonFinite)
     std::cerr << "  non-finite sample: --pixel " << s.x << "," << s.y << " --sample " << s.sampleIndex << "\n";
+}
+
+// What every render needs before it starts: the scene, the integrator with
+// its parameters read (bad input found here, before any work).
+struct Prepared {
+  SceneFile sf;
+  IntegratorChoice choice;
+  Params params;
+  std::unique_ptr<Integrator> integrator;
+};
+
+Prepared prepare(const RenderArgs& args) {
+  if (!args.integrator.empty()) checkIntegratorName(args.integrator);
+  YAML::Node sceneOverrides(YAML::NodeType::Map);
+  if (args.worldScale > 0) {
+    if (std::string problem = worldScaleProblem(args.worldScale); !problem.empty()) throw flagError("--world-scale", problem);
+    sceneOverrides["world_scale"] = args.worldScale;
+  }
+  if (!args.resolution.empty()) {
+    int w = 0, h = 0;
+    if (!parseResolution(args.resolution, w, h))
+      throw flagError("--resolution", "must be WIDTHxHEIGHT, got '" + args.resolution + "'");
+    sceneOverrides["film"]["width"] = w;
+    sceneOverrides["film"]["height"] = h;
+  }
+  checkNotAnExperiment(args.scene);
+  SceneLoadOptions loadOptions;
+  loadOptions.strict = args.strict;
+  SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
+  IntegratorChoice choice = chooseIntegrator(sf, args);
+  Params params(choice.params, args.scene, "integrator");
+  for (const auto& k : choice.overridden) params.markOverridden(k);
+  auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
+  return {std::move(sf), std::move(choice), std::move(params), std::move(integrator)};
+}
+
+// The AOV layers asked for, in the order of aovNames().
+std::vector<ExrLayer> aovLayers(const std::vector<std::string>& wanted, const Scene& scene, const Film& film,
+                                uint64_t seed) {
+  auto asked = [&](const std::string& n) { return std::find(wanted.begin(), wanted.end(), n) != wanted.end(); };
+  std::vector<ExrLayer> layers;
+  if (asked("albedo") || asked("normal") || asked("depth")) {
+    // 16 jittered rays a pixel: antialiased edges, and the albedo's BSDF-sampled estimate settles.
+    FirstHitImages first = renderFirstHitImages(scene, 16, seed);
+    if (asked("albedo")) layers.push_back({"albedo", {"R", "G", "B"}, std::move(first.albedo)});
+    if (asked("normal")) layers.push_back({"normal", {"X", "Y", "Z"}, std::move(first.normal)});
+    if (asked("depth")) layers.push_back({"depth", {"Z"}, std::move(first.depth)});
+  }
+  if (asked("variance")) layers.push_back({"variance", {"R", "G", "B"}, film.varianceOfMean()});
+  if (asked("spp")) {
+    Image count(film.width(), film.height());
+    for (int y = 0; y < film.height(); ++y)
+      for (int x = 0; x < film.width(); ++x)
+        // Camera samples where the integrator adds them per pixel; else each pass is one estimate per pixel.
+        count.at(x, y) = Color(float(film.samples(x, y) ? film.samples(x, y) : film.passes()));
+    layers.push_back({"spp", {"Y"}, std::move(count)});
+  }
+  return layers;
+}
+
+RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
+  RenderOptions options;
+  options.seed = args.seed;
+  options.budget.spp = args.spp;
+  options.budget.seconds = args.seconds;
+  if (options.budget.spp == 0 && options.budget.seconds == 0) options.budget.spp = job.sf.sceneSpp ? job.sf.sceneSpp : 16;
+  options.progress = !args.quiet;
+
+  const Camera& cam = job.sf.scene->camera;
+  Film film(cam.width(), cam.height());
+  RenderReport rep = renderLoop(*job.sf.scene, *job.integrator, film, job.sf.sampler, options);
+
+  YAML::Node resolved;
+  resolved["lightbench"] = versionString();
+  resolved["scene_file"] = args.scene;
+  resolved["scene"] = job.sf.description;
+  if (job.sf.importWarnings) resolved["import_warnings"] = job.sf.importWarnings;
+  YAML::Node integ = job.params.resolved();
+  integ["name"] = job.choice.name;
+  resolved["integrator"] = integ;
+  resolved["sampler"]["type"] = job.sf.sampler.type;
+  resolved["sampler"]["strata"] = job.sf.sampler.strata;
+  resolved["seed"] = args.seed;
+  resolved["spp"] = rep.passes;
+  resolved["threads"] = args.threads;
+  resolved["seconds"] = rep.seconds;
+  if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
+  resolved["non_finite_samples"] = rep.nonFinite;
+  YAML::Emitter emitter;
+  emitter << resolved;
+  RenderedImage out{film.image(), std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}};
+  out.layers = aovLayers(args.aovs, *job.sf.scene, film, args.seed);
+  for (ExrLayer& layer : job.integrator->extraLayers()) out.layers.push_back(std::move(layer));
+  // The EXR carries what made it: a file copied away from its .config.yaml still says.
+  out.attributes = {{"lightbench/version", versionString()},
+                    {"lightbench/scene", args.scene},
+                    {"lightbench/integrator", job.choice.name},
+                    {"lightbench/parameters", flowYaml(integ)},
+                    {"lightbench/spp", std::to_string(rep.passes)},
+                    {"lightbench/seconds", std::to_string(rep.seconds)},
+                    {"lightbench/seed", std::to_string(args.seed)},
+                    {"lightbench/non_finite_samples", std::to_string(rep.nonFinite)}};
+  return out;
+}
+
+std::unique_ptr<tbb::global_control> limitThreads(int threads) {
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(threads));
 }
 
 int render(const RenderArgs& args) {
@@ -116,40 +240,26 @@ int render(const RenderArgs& args) {
   std::string output = args.output.empty() ? std::filesystem::path(args.scene).stem().string() + ".exr" : args.output;
   if (!replay) checkOutputs(output);
 
-  YAML::Node sceneOverrides(YAML::NodeType::Map);
-  if (args.worldScale > 0) {
-    if (std::string problem = worldScaleProblem(args.worldScale); !problem.empty()) throw flagError("--world-scale", problem);
-    sceneOverrides["world_scale"] = args.worldScale;
-  }
-  SceneLoadOptions loadOptions;
-  loadOptions.strict = args.strict;
-  SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
-  IntegratorChoice choice = chooseIntegrator(sf, args);
-  Params params(choice.params, args.scene, "integrator");
-  for (const auto& k : choice.overridden) params.markOverridden(k);
-  auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
+  Prepared job = prepare(args);
   if (!replay)
-    for (const std::string& path : integrator->extraOutputPaths(stemPath(output))) {
+    for (const std::string& path : job.integrator->extraOutputPaths(stemPath(output))) {
       std::error_code ec;
       if (std::filesystem::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
     }
+  auto threads = limitThreads(args.threads);
 
-  std::unique_ptr<tbb::global_control> threads;
-  if (args.threads > 0)
-    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, size_t(args.threads));
-
-  const Camera& cam = sf.scene->camera;
   if (replay) {
+    const Camera& cam = job.sf.scene->camera;
     int x = -1, y = -1;
     if (!parsePixel(args.replayPixel, x, y) || x >= cam.width() || y >= cam.height())
       throw flagError("--pixel", "must be a pixel X,Y inside the " + std::to_string(cam.width()) + "x" +
                                      std::to_string(cam.height()) + " film, got '" + args.replayPixel + "'");
     enableFlushToZeroOnAllThreads();
-    auto sampler = makeSampler(sf.sampler, args.seed);
-    integrator->preprocess(*sf.scene, *sampler);
-    auto value = integrator->replaySample(*sf.scene, *sampler, x, y, uint64_t(args.replaySample));
+    auto sampler = makeSampler(job.sf.sampler, args.seed);
+    job.integrator->preprocess(*job.sf.scene, *sampler);
+    auto value = job.integrator->replaySample(*job.sf.scene, *sampler, x, y, uint64_t(args.replaySample));
     if (!value) {
-      std::cerr << "error: integrator '" << choice.name << "' cannot replay single samples\n";
+      std::cerr << "error: integrator '" << job.choice.name << "' cannot replay single samples\n";
       return 1;
     }
     std::cout << "pixel " << x << "," << y << " sample " << args.replaySample << ": " << value->r << " " << value->g
@@ -157,61 +267,54 @@ int render(const RenderArgs& args) {
     return 0;
   }
 
-  RenderOptions options;
-  options.seed = args.seed;
-  options.budget.spp = args.spp;
-  options.budget.seconds = args.seconds;
-  if (options.budget.spp == 0 && options.budget.seconds == 0) options.budget.spp = sf.sceneSpp ? sf.sceneSpp : 16;
-  options.progress = !args.quiet;
-
-  Film film(cam.width(), cam.height());
-  RenderReport rep = renderLoop(*sf.scene, *integrator, film, sf.sampler, options);
-
-  YAML::Node resolved;
-  resolved["lightbench"] = versionString();
-  resolved["scene_file"] = args.scene;
-  resolved["scene"] = sf.description;
-  if (sf.importWarnings) resolved["import_warnings"] = sf.importWarnings;
-  YAML::Node integ = params.resolved();
-  integ["name"] = choice.name;
-  resolved["integrator"] = integ;
-  resolved["sampler"]["type"] = sf.sampler.type;
-  resolved["sampler"]["strata"] = sf.sampler.strata;
-  resolved["seed"] = args.seed;
-  resolved["spp"] = rep.passes;
-  resolved["threads"] = args.threads;
-  resolved["seconds"] = rep.seconds;
-  if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
-  resolved["non_finite_samples"] = rep.nonFinite;
-  YAML::Emitter emitter;
-  emitter << resolved;
-
-  Image image = film.image();
+  RenderedImage rendered = renderPrepared(job, args);
+  const Image& image = rendered.image;
   std::string stem = stemPath(output);
+  // -o NAME.png: the preview only, and said so (an EXR is never written under
+  // a .png name, nor a PNG over an EXR).
+  const bool pngOnly = std::filesystem::path(output).extension() == ".png";
   // A failed write (disk full, say) removes what was written before it: a
   // failed run leaves no output file.
   std::vector<std::string> written, extra;
   try {
-    writeExr(output, image);
-    written.push_back(output);
-    writePng(stem + ".png", image);
+    if (!pngOnly) {
+      writeExr(output, image, rendered.layers, rendered.attributes);
+      written.push_back(output);
+    }
+    writePng(stem + ".png", image, args.exposure);
     written.push_back(stem + ".png");
-    writeTextFile(stem + ".config.yaml", std::string(emitter.c_str()) + "\n");
+    writeTextFile(stem + ".config.yaml", rendered.resolvedYaml);
     written.push_back(stem + ".config.yaml");
-    extra = integrator->writeExtraOutputs(stem);
+    extra = job.integrator->writeExtraOutputs(stem);
   } catch (...) {
     std::error_code ec;
     for (const auto& w : written) std::filesystem::remove(w, ec);
     throw;
   }
-  printSummary(rep, film);
-  std::cerr << "wrote " << output << ", " << stem << ".png, " << stem << ".config.yaml";
+  printSummary(rendered);
+  if (pngOnly)
+    std::cerr << "wrote " << stem << ".png (the 8-bit preview only: -o NAME.exr keeps the float image"
+              << (rendered.layers.empty() ? "" : " and its layers") << ") and " << stem << ".config.yaml";
+  else
+    std::cerr << "wrote " << output << (rendered.layers.empty() ? "" : " (" + std::to_string(rendered.layers.size()) + " layers)")
+              << ", " << stem << ".png, " << stem << ".config.yaml";
   if (!extra.empty()) std::cerr << " and " << extra.size() << " more (" << extra.front() << " …)";
   std::cerr << "\n";
   return 0;
 }
 
 }  // namespace
+
+const std::vector<std::string>& aovNames() {
+  static const std::vector<std::string> names = {"albedo", "normal", "depth", "variance", "spp"};
+  return names;
+}
+
+RenderedImage renderToMemory(const RenderArgs& args) {
+  Prepared job = prepare(args);
+  auto threads = limitThreads(args.threads);
+  return renderPrepared(job, args);
+}
 
 int runRender(const RenderArgs& args) {
   return withErrorExitCodes([&] { return render(args); });

@@ -1,0 +1,46 @@
+"""Reading an experiment's run folder (results/<experiment>/<run-id>) into
+pandas and numpy: the log, the metadata and the images."""
+import json
+import os
+from dataclasses import dataclass, field
+
+import pandas as pd
+
+from ._core import read_exr, slug  # slug: a label as in file names (experiments/experiment.h)
+
+
+@dataclass
+class Run:
+    folder: str
+    log: pd.DataFrame                              # log.csv, one row per snapshot
+    meta: dict                                     # meta.json
+    images: dict = field(default_factory=dict)     # (scene, label) -> final image of repeat 0, (H, W, 3)
+    references: dict = field(default_factory=dict)  # scene -> reference image
+
+    def final(self):
+        """The log's final snapshots (one row per scene, configuration and repeat)."""
+        return self.log[self.log["final"]]
+
+
+def load_run(folder):
+    """Reads a run folder: log.csv as a DataFrame (numeric columns typed,
+    `final` as bool), meta.json as a dict, and every configuration's final
+    image and the references as float32 arrays."""
+    folder = os.fspath(folder)
+    log = pd.read_csv(os.path.join(folder, "log.csv"))
+    log["final"] = log["final"].astype(bool)
+    meta_path = os.path.join(folder, "meta.json")
+    meta = {}
+    if os.path.exists(meta_path):
+        with open(meta_path) as f:
+            meta = json.load(f)
+    run = Run(folder, log, meta)
+    for scene in meta.get("scenes", []):
+        ref = os.path.join(folder, scene.get("reference_exr") or scene["name"] + "__reference.exr")
+        if os.path.exists(ref):
+            run.references[scene["name"]] = read_exr(ref)
+    for (scene, label) in log[["scene", "label"]].drop_duplicates().itertuples(index=False):
+        path = os.path.join(folder, f"{scene}__{slug(label)}.exr")
+        if os.path.exists(path):
+            run.images[(scene, label)] = read_exr(path)
+    return run
