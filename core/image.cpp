@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
 #include <openexr.h>
 #include <png.h>
 #include <unistd.h>
@@ -15,6 +16,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <set>
 #include <stdexcept>
@@ -37,17 +39,29 @@ void commit(const std::string& tmp, const std::string& path) {
 }
 }  // namespace
 
-void writeExr(const std::string& path, const Image& image) {
+void writeExr(const std::string& path, const Image& image) { writeExr(path, image, {}, {}); }
+
+void writeExr(const std::string& path, const Image& image, const std::vector<ExrLayer>& layers,
+              const std::map<std::string, std::string>& attributes) {
   std::string tmp = temporaryPathFor(path);
   try {
     Imf::Header header(image.width, image.height);
-    const char* names[3] = {"R", "G", "B"};
-    for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
-    Imf::OutputFile file(tmp.c_str(), header);
+    for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
     Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(const_cast<Color*>(image.pixels.data()));
-    for (int c = 0; c < 3; ++c)
-      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
+    auto insert = [&](const std::string& name, const Image& source, int component) {
+      if (source.width != image.width || source.height != image.height)
+        throw std::runtime_error("layer " + name + " is " + std::to_string(source.width) + "x" +
+                                 std::to_string(source.height) + ", the image " + std::to_string(image.width) + "x" +
+                                 std::to_string(image.height));
+      header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+      char* base = reinterpret_cast<char*>(const_cast<Color*>(source.pixels.data()));
+      fb.insert(name, Imf::Slice(Imf::FLOAT, base + component * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
+    };
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) insert(names[c], image, c);
+    for (const ExrLayer& layer : layers)
+      for (size_t c = 0; c < layer.channels.size() && c < 3; ++c) insert(layer.name + "." + layer.channels[c], layer.image, int(c));
+    Imf::OutputFile file(tmp.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(image.height);
   } catch (const std::exception& e) {
@@ -175,11 +189,14 @@ void checkExrHeader(const std::string& path) {
 }
 }  // namespace
 
-Image readExr(const std::string& path) {
+namespace {
+// Reads the channels `choose` names for R, G, B (equal names: grey, read once).
+Image readExrChannels(const std::string& path,
+                      const std::function<std::array<std::string, 3>(const Imf::ChannelList&)>& choose) {
   try {
     checkExrHeader(path);
     Imf::InputFile file(path.c_str());
-    std::array<std::string, 3> names = rgbChannels(file.header().channels());
+    std::array<std::string, 3> names = choose(file.header().channels());
     bool grey = names[0] == names[1];
     Imath::Box2i dw = file.header().dataWindow();
     int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
@@ -204,6 +221,38 @@ Image readExr(const std::string& path) {
     if (grey)
       for (Color& p : image.pixels) p = Color(p.r);
     return image;
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot read " + path + ": " + e.what());
+  }
+}
+}  // namespace
+
+Image readExr(const std::string& path) { return readExrChannels(path, rgbChannels); }
+
+Image readExrLayer(const std::string& path, const std::string& layer) {
+  return readExrChannels(path, [&](const Imf::ChannelList& channels) -> std::array<std::string, 3> {
+    auto has = [&](const std::string& c) { return channels.findChannel(layer + "." + c) != nullptr; };
+    for (auto triple : {std::array<const char*, 3>{"R", "G", "B"}, std::array<const char*, 3>{"X", "Y", "Z"}})
+      if (has(triple[0]) && has(triple[1]) && has(triple[2]))
+        return {layer + "." + triple[0], layer + "." + triple[1], layer + "." + triple[2]};
+    std::vector<std::string> names;
+    for (auto c = channels.begin(); c != channels.end(); ++c) {
+      std::string name = c.name();
+      if (name.rfind(layer + ".", 0) == 0 && name.find('.', layer.size() + 1) == std::string::npos) names.push_back(name);
+    }
+    if (names.size() == 1) return {names[0], names[0], names[0]};
+    throw std::runtime_error("no layer '" + layer + "' with R, G, B, or X, Y, Z, or one channel");
+  });
+}
+
+std::map<std::string, std::string> readExrAttributes(const std::string& path) {
+  try {
+    checkExrHeader(path);
+    Imf::InputFile file(path.c_str());
+    std::map<std::string, std::string> out;
+    for (auto a = file.header().begin(); a != file.header().end(); ++a)
+      if (auto* text = dynamic_cast<const Imf::StringAttribute*>(&a.attribute())) out[a.name()] = text->value();
+    return out;
   } catch (const std::exception& e) {
     throw std::runtime_error("cannot read " + path + ": " + e.what());
   }

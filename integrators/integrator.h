@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 #include "core/film.h"
+#include "core/image.h"
 #include "core/sampler.h"
 #include "core/scene.h"
 
@@ -20,22 +21,30 @@ struct PassStats {
 class Integrator {
  public:
   virtual ~Integrator() = default;
+  // Whether preprocess() may print a progress line (core/progress.h): the
+  // render loop passes on its own setting.
+  void setProgress(bool on) { progress_ = on; }
   // Work done once before sampling (photon maps, caches). Counted in a budget.
   virtual void preprocess(const Scene&, const Sampler& /*prototype*/) {}
   virtual void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,
                           PassStats& stats) = 0;
-  // Extra images an integrator can write beside the main one (e.g. BDPT's
-  // per-strategy images); returns the paths written.
+  // Extra images an integrator can write beside the main one (photon
+  // densities, cache records); returns the paths written.
   virtual std::vector<std::string> writeExtraOutputs(const std::string& /*stem*/) const { return {}; }
   // Every file writeExtraOutputs(stem) may write, known from the settings
   // before rendering: the render command checks them first (a directory in
   // the way would otherwise be found after the whole render).
   virtual std::vector<std::string> extraOutputPaths(const std::string& /*stem*/) const { return {}; }
+  // Images that belong in the main EXR as layers (BDPT's per-strategy images).
+  virtual std::vector<ExrLayer> extraLayers() const { return {}; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the
   // integrator estimates pixels one at a time.
   virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {
     return std::nullopt;
   }
+
+ protected:
+  bool progress_ = false;
 };
 
 // Base for integrators that estimate each pixel independently from camera rays

@@ -13,8 +13,8 @@ BdptSettings BdptSettings::read(Params& p) {
   using bidir::MisWeighting;
   s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
   s.strategyImages = p.getInt("strategy_images", 0,
-                              {"write each strategy's weighted and unweighted image up to this path length in "
-                               "segments; 0: none",
+                              {"each strategy's weighted and unweighted image, up to this path length in segments, "
+                               "as layers of the EXR; 0: none",
                                Range::between(0, 8)});
   p.checkUnused();
   return s;
@@ -98,32 +98,17 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   }
 }
 
-std::vector<std::string> Bdpt::extraOutputPaths(const std::string& stem) const {
-  std::vector<std::string> paths;
-  for (int len = 1; len <= settings_.strategyImages; ++len)
-    for (int t = 1; t <= len + 1; ++t) {
-      int s = len + 1 - t;
-      if (s == 1 && t == 1) continue;
-      std::string base = stem + "_s" + std::to_string(s) + "_t" + std::to_string(t);
-      for (const char* suffix : {"", "_unweighted"})
-        for (const char* ext : {".exr", ".png"}) paths.push_back(base + suffix + ext);
-    }
-  return paths;
-}
-
-std::vector<std::string> Bdpt::writeExtraOutputs(const std::string& stem) const {
-  std::vector<std::string> written;
+// Layers "s2_t1" (MIS-weighted) and "s2_t1_unweighted" of the main EXR: the
+// weighted ones sum to the image (Veach 1997, Fig. 10.3 shows them side by side).
+std::vector<ExrLayer> Bdpt::extraLayers() const {
+  std::vector<ExrLayer> layers;
   for (size_t i = 0; i < strategies_.size(); ++i) {
     auto [s, t] = strategies_[i];
-    std::string base = stem + "_s" + std::to_string(s) + "_t" + std::to_string(t);
-    for (auto [film, suffix] : {std::pair{weighted_[i].get(), ""}, std::pair{unweighted_[i].get(), "_unweighted"}}) {
-      Image img = film->image();
-      writeExr(base + suffix + ".exr", img);
-      writePng(base + suffix + ".png", img);
-      written.push_back(base + suffix + ".exr");
-    }
+    std::string base = "s" + std::to_string(s) + "_t" + std::to_string(t);
+    layers.push_back({base, {"R", "G", "B"}, weighted_[i]->image()});
+    layers.push_back({base + "_unweighted", {"R", "G", "B"}, unweighted_[i]->image()});
   }
-  return written;
+  return layers;
 }
 
 }  // namespace lb

@@ -34,8 +34,7 @@ class Bdpt final : public Integrator {
  public:
   explicit Bdpt(BdptSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
-  std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
-  std::vector<std::string> extraOutputPaths(const std::string& stem) const override;
+  std::vector<ExrLayer> extraLayers() const override;
   // Per-strategy film (after a render with strategy_images > 0), or null.
   const Film* strategyFilm(int s, int t, bool weighted) const {
     int k = strategyIndex(s, t);
