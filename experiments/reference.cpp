@@ -1,4 +1,5 @@
 #include "experiments/reference.h"
+#include "core/format.h"
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -281,8 +282,15 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
 
     std::ostringstream line;
     line << "reference " << referenceName(s) << ": chunk " << acc.chunks << " (" << acc.chunks * spec.chunkSpp
-         << " spp, " << std::lround(seconds) << " s)";
-    if (acc.chunks >= 2) line << ", noise floor " << std::sqrt(v);
+         << " spp, " << formatSeconds(seconds) << ")";
+    if (acc.chunks >= 2) line << ", noise floor " << std::setprecision(3) << std::sqrt(v);
+    // Its own ETA, from the time per chunk so far.
+    if (spec.spp > 0) {
+      double chunksLeft = std::ceil(double(spec.spp) / spec.chunkSpp) - double(acc.chunks);
+      if (chunksLeft > 0) line << ", ETA " << formatSeconds(seconds / acc.chunks * chunksLeft);
+    } else if (spec.seconds > 0 && seconds < spec.seconds) {
+      line << ", ETA " << formatSeconds(spec.seconds - seconds);
+    }
     if (spec.noiseFloor > 0 && acc.chunks >= 2 && std::sqrt(v) > spec.noiseFloor)
       // The floor falls as 1/sqrt(time): about (floor/target)² times the time so far.
       line << " → " << spec.noiseFloor << ", about " << std::setprecision(3)

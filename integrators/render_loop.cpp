@@ -3,6 +3,7 @@
 #include <unistd.h>
 #include <chrono>
 #include <cstdio>
+#include "core/format.h"
 
 namespace lb {
 
@@ -13,11 +14,12 @@ class FlushToZeroObserver final : public tbb::task_scheduler_observer {
   void on_scheduler_entry(bool) override { enableFlushToZero(); }
 };
 
-std::string formatSeconds(double s) {
-  char buf[32];
-  if (s < 120) std::snprintf(buf, sizeof buf, "%.1fs", s);
-  else std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
-  return buf;
+void printProgress(bool tty, double fraction, uint64_t passes, double samplesPerSecond, double raysPerSecond,
+                   const std::string& tail) {
+  std::fprintf(stderr, "%s[%3d%%] %llu spp, %s, %s, %s%s", tty ? "\r" : "", int(100 * std::min(1.0, fraction)),
+               (unsigned long long)passes, formatCount(samplesPerSecond, "samples/s").c_str(),
+               formatCount(raysPerSecond, "rays/s").c_str(), tail.c_str(), tty ? "   " : "\n");
+  std::fflush(stderr);
 }
 }  // namespace
 
@@ -47,6 +49,7 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   auto elapsed = [&] {
     return options.setupSeconds + std::chrono::duration<double>(Clock::now() - start).count() - excluded;
   };
+  integrator.setProgress(options.progress);
   integrator.preprocess(scene, *sampler);
   report.preprocessSeconds = elapsed();
 
@@ -77,13 +80,17 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
       if (budget.seconds > 0) fraction = std::max(fraction, t / budget.seconds);
       double eta = fraction > 0 ? t / fraction - t : 0;
       double samplesPerSecond = double(report.passes) * film.width() * film.height() / std::max(t, 1e-9);
-      std::fprintf(stderr, "%s[%3d%%] %llu spp, %.2f Msamples/s, %.2f Mrays/s, ETA %s%s", tty ? "\r" : "",
-                   int(100 * std::min(1.0, fraction)), (unsigned long long)report.passes, samplesPerSecond * 1e-6,
-                   double(stats.rays.load()) / std::max(t, 1e-9) * 1e-6, formatSeconds(eta).c_str(), tty ? "   " : "\n");
-      std::fflush(stderr);
+      printProgress(tty, fraction, report.passes, samplesPerSecond, double(stats.rays.load()) / std::max(t, 1e-9),
+                    "ETA " + formatSeconds(eta));
     }
   }
-  if (tty) std::fprintf(stderr, "\n");
+  // The line ends at 100 %, whichever budget ended the loop.
+  if (options.progress) {
+    double t = elapsed();
+    printProgress(tty, 1.0, report.passes, double(report.passes) * film.width() * film.height() / std::max(t, 1e-9),
+                  double(stats.rays.load()) / std::max(t, 1e-9), "done in " + formatSeconds(t));
+    if (tty) std::fprintf(stderr, "\n");
+  }
   report.seconds = elapsed();
   report.budgetSeconds = budget.seconds;
   report.rays = stats.rays.load();

@@ -48,8 +48,18 @@ int lightbenchMain(int argc, char** argv) {
       ->check(unsignedInteger(0, "random seed"));
   render->add_option("--threads", r.threads, "Worker threads (default: all cores)")
       ->check(intInRange(0, std::numeric_limits<int>::max(), "worker threads, 0: all cores"));
-  render->add_option("-o,--output", r.output, "Output EXR path (default: <scene name>.exr); the PNG and <name>.config.yaml go beside it")
-      ->check(exrFileName());
+  render->add_option("-o,--output", r.output,
+                     "Output: NAME.exr (default: <scene name>.exr; the PNG preview and NAME.config.yaml go beside it), "
+                     "or NAME.png for the preview only")
+      ->check(outputFileName());
+  render->add_option("--resolution", r.resolution, "Film size WIDTHxHEIGHT, e.g. 640x480 (replaces the scene's film size)")
+      ->check(resolution());
+  render->add_option("--aov", r.aovs, "Extra EXR layers, comma-separated: albedo, normal, depth (first hit), variance "
+                                      "(of each pixel's estimate), spp (samples per pixel)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(aovNames()));
+  render->add_option("--exposure", r.exposure, "Exposure of the PNG preview in stops (the EXR is never scaled)")
+      ->check(CLI::Range(-64.0, 64.0));
   render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing")
       ->check(pixelCoordinates());
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)")
@@ -68,12 +78,17 @@ int lightbenchMain(int argc, char** argv) {
       ->check(intInRange(1, std::numeric_limits<int>::max(), "runs at once"));
   runCmd->add_option("--results", run.results, "Folder for run outputs and cached references (default: results)");
   runCmd->add_flag("--no-report", run.noReport, "Skip the plots and HTML report");
+  runCmd->add_option("--python", run.python, "Interpreter for the report (default: $LIGHTBENCH_PYTHON, else /usr/bin/python3); needs matplotlib");
 
   std::string integratorName;
   bool markdown = false;
   CLI::App* integrators = app.add_subcommand("integrators", "List the integrators, or one integrator's keys with type, default, range and meaning.");
   integrators->add_option("name", integratorName, "An integrator's name: list its keys");
   integrators->add_flag("--markdown", markdown, "The key table as markdown (docs/integrators.md is this for every integrator)");
+
+  std::string shell;
+  CLI::App* completion = app.add_subcommand("completion", "Print a shell completion script: source <(lightbench completion bash)");
+  completion->add_option("shell", shell, "The shell (bash)")->required()->check(CLI::IsMember({"bash"}));
 
   try {
     app.parse(argc, argv);
@@ -98,6 +113,10 @@ int lightbenchMain(int argc, char** argv) {
     });
   }
   if (app.got_subcommand("run")) return runExperimentCommand(run);
+  if (app.got_subcommand("completion")) {
+    std::cout << bashCompletion(app);
+    return 0;
+  }
   return runRender(r);
 }
 

@@ -79,15 +79,37 @@ CLI::Validator pixelCoordinates() {
       "X,Y");
 }
 
-CLI::Validator exrFileName() {
+CLI::Validator outputFileName() {
   return CLI::Validator(
       [](std::string& text) {
         std::filesystem::path p(text);
-        if (p.extension() != ".exr" || p.stem().empty())
-          return "must name an .exr file (the .png preview and .config.yaml are written beside it)" + got(text);
+        if ((p.extension() != ".exr" && p.extension() != ".png") || p.stem().empty())
+          return "must name an .exr file (the .png preview and .config.yaml are written beside it) or a .png "
+                 "(the preview only)" + got(text);
         return std::string();
       },
-      "FILE.exr");
+      "FILE.exr|FILE.png");
+}
+
+bool parseResolution(const std::string& text, int& width, int& height) {
+  auto x = text.find('x');
+  if (x == std::string::npos) return false;
+  auto whole = [](const std::string& s, int& v) {
+    if (s.empty() || s.size() > 5 || s.find_first_not_of("0123456789") != std::string::npos) return false;
+    v = std::stoi(s);
+    return v >= 1 && v <= 16384;
+  };
+  return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
+}
+
+CLI::Validator resolution() {
+  return CLI::Validator(
+      [](std::string& text) {
+        int w = 0, h = 0;
+        return parseResolution(text, w, h) ? std::string()
+                                           : "must be WIDTHxHEIGHT, each from 1 to 16384 (e.g. 640x480)" + got(text);
+      },
+      "WxH");
 }
 
 ConfigError flagError(const std::string& flag, const std::string& message) {

@@ -18,9 +18,14 @@ CLI::Validator intInRange(long long minimum, long long maximum, const std::strin
 CLI::Validator positiveFinite(const std::string& what);
 // "X,Y": two whole non-negative decimal numbers that fit an int.
 CLI::Validator pixelCoordinates();
-// An EXR file name: the PNG preview and the configuration are written beside
-// it under the same stem, so any other extension would be overwritten.
-CLI::Validator exrFileName();
+// The render's output: NAME.exr (the float image; the PNG preview and the
+// configuration are written beside it under the same stem) or NAME.png (the
+// preview only, said so; never an EXR under a .png name). Other extensions are
+// refused: they would be overwritten by, or mistaken for, one of these.
+CLI::Validator outputFileName();
+// "WxH": two whole numbers from 1 to 16384, e.g. 640x480.
+CLI::Validator resolution();
+bool parseResolution(const std::string& text, int& width, int& height);
 
 // A ConfigError about a flag: "command line: 'flag': message".
 ConfigError flagError(const std::string& flag, const std::string& message);

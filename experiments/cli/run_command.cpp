@@ -1,5 +1,7 @@
 // `lightbench run`: load and check the experiment, then hand it to the runner.
+#include <filesystem>
 #include <iostream>
+#include "core/params.h"
 #include "experiments/cli/commands.h"
 #include "core/error.h"
 #include "experiments/cli/flag_checks.h"
@@ -11,6 +13,14 @@ int runExperimentCommand(const RunArgs& args) {
   return withErrorExitCodes([&] {
     ExperimentOptions eo;
     eo.quick = args.quick;
+    // `lightbench run scene.yaml`: say which command was meant.
+    if (std::filesystem::path(args.experiment).extension() == ".xml")
+      throw ConfigError(args.experiment, 0, "", "this is a scene, not an experiment: render it with 'lightbench render " +
+                                                    args.experiment + "'");
+    YAML::Node root = loadYamlFile(args.experiment);
+    if (root.IsMap() && !root["configurations"] && (root["camera"] || root["shapes"]))
+      throw ConfigError(args.experiment, 0, "", "this is a scene, not an experiment: render it with 'lightbench render " +
+                                                    args.experiment + "'");
     Experiment e = loadExperiment(args.experiment, eo);
     // Before any reference renders: the results folder (created if missing).
     checkWritableFolder("--results", args.results);
@@ -19,6 +29,7 @@ int runExperimentCommand(const RunArgs& args) {
     ro.resume = args.resume;
     ro.jobs = args.jobs;
     ro.report = !args.noReport;
+    ro.python = args.python;
     runExperiment(e, ro);
     return 0;
   });

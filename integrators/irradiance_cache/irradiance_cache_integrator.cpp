@@ -1,6 +1,7 @@
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include <chrono>
 #include <iostream>
+#include "core/format.h"
 #include "core/bsdfs/bsdf.h"
 #include "core/image.h"
 #include "integrators/direct_light.h"
@@ -75,16 +76,25 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
     uint64_t seed = hashValues(seed_, 0x1cac4e);
     int photonSegments = std::max(0, settings_.length.maxSegments() - 1);  // camera paths have at least one
     settings_.photonMaps.checkMemory(scene, seed, photonSegments);
-    global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, photonSegments, false);
-    caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, photonSegments, true);
+    Progress progress("photon tracing", double(settings_.photonMaps.globalPhotons + settings_.photonMaps.causticPhotons),
+                      progress_);
+    global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, photonSegments, false, &progress);
+    caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, photonSegments, true, &progress);
   }
   // Lazy creation, coarse to fine (Tabellion & Lamorlette 2004): sparse pixels
   // first, so the records they create cover most of the image before the
   // full-resolution passes need them.
   auto t0 = std::chrono::steady_clock::now();
   PassStats ignored;
-  for (int level = settings_.prepassLevels; level >= 1; --level)
+  // Level L visits one pixel in 4^L: its share of the prepass's work.
+  double work = 0;
+  for (int level = settings_.prepassLevels; level >= 1; --level) work += 1.0 / double(1 << (2 * level));
+  Progress progress("irradiance cache prepass", work, progress_);
+  for (int level = settings_.prepassLevels; level >= 1; --level) {
     runPass(nullptr, 1 << level, PrepassSample + uint64_t(level), prototype, ignored, {});
+    progress.advance(1.0 / double(1 << (2 * level)));
+  }
+  progress.finish();
   stats_.prepassRecords = cache_->size();
   stats_.prepassSeconds = secondsSince(t0);
 }
@@ -267,11 +277,14 @@ IncidentSample IrradianceCacheIntegrator::photonIncident(const Ray& ray, Sampler
 std::vector<std::string> IrradianceCacheIntegrator::writeExtraOutputs(const std::string& stem) const {
   if (!cache_) return {};
   const IrradianceCacheStats& s = stats_;
-  std::cerr << "irradiance cache: " << cache_->size() << " records (" << s.prepassRecords << " from the prepass in "
-            << s.prepassSeconds << " s); " << double(cache_->size()) / std::max(s.recordSeconds, 1e-9)
-            << " records/s per thread; " << s.lookups << " lookups, " << double(s.lookups) / std::max(s.lookupSeconds, 1e-9)
-            << " lookups/s per thread; hit rate " << 100.0 * double(s.hits) / double(std::max<uint64_t>(s.lookups, 1))
-            << " %";
+  char hitRate[16];
+  std::snprintf(hitRate, sizeof hitRate, "%.1f %%", 100.0 * double(s.hits) / double(std::max<uint64_t>(s.lookups, 1)));
+  std::cerr << "irradiance cache: " << formatCount(double(cache_->size())) << " records ("
+            << formatCount(double(s.prepassRecords)) << " from the prepass in " << formatSeconds(s.prepassSeconds)
+            << "); " << formatCount(double(cache_->size()) / std::max(s.recordSeconds, 1e-9), "records/s")
+            << " per thread; " << formatCount(double(s.lookups), "lookups") << ", "
+            << formatCount(double(s.lookups) / std::max(s.lookupSeconds, 1e-9), "lookups/s") << " per thread; hit rate "
+            << hitRate;
   if (s.nonFiniteIncident) std::cerr << "; " << s.nonFiniteIncident << " NaN/Inf hemisphere samples dropped";
   std::cerr << "\n";
   if (!settings_.recordImage || !film_) return {};

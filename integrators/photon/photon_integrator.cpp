@@ -1,5 +1,6 @@
 #include "integrators/photon/photon_integrator.h"
 #include <iostream>
+#include "core/format.h"
 #include "core/bsdfs/bsdf.h"
 #include "integrators/direct_light.h"
 #include "integrators/photon_map/photon_tracing.h"
@@ -32,12 +33,15 @@ void PhotonMapper::preprocess(const Scene& scene, const Sampler& prototype) {
   // Photons are used by camera paths of at least one segment (path_length.h).
   int photonSegments = std::max(0, settings_.maxDepth - 1);
   settings_.checkMemory(scene, seed, photonSegments);
-  global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, photonSegments, false);
-  caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, photonSegments, true);
+  Progress progress("photon tracing", double(settings_.globalPhotons + settings_.causticPhotons), progress_);
+  global_ = buildPhotonMap(scene, seed, settings_.globalPhotons, photonSegments, false, &progress);
+  caustic_ = buildPhotonMap(scene, seed + 1, settings_.causticPhotons, photonSegments, true, &progress);
+  progress.finish();
   if (settings_.stats)
     for (auto [name, map] : {std::pair{"global", &global_}, std::pair{"caustic", &caustic_}})
-      std::cerr << "photon map " << name << ": " << map->size() << " photons stored, "
-                << double(map->memoryBytes()) / (1 << 20) << " MiB, kd-tree build " << map->buildSeconds() << " s\n";
+      std::cerr << "photon map " << name << ": " << formatCount(double(map->size())) << " photons stored, "
+                << formatBytes(double(map->memoryBytes())) << ", kd-tree build " << formatSeconds(map->buildSeconds())
+                << "\n";
 }
 
 

@@ -61,13 +61,13 @@ void PhotonMapSettings::checkMemory(const Scene& scene, uint64_t seed, int maxBo
 }
 
 PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int maxBounces, bool causticOnly,
-                         uint64_t* rays) {
+                         Progress* progress, uint64_t* rays) {
   size_t chunks = (paths + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
   std::vector<std::vector<Photon>> perChunk(chunks);
   uint64_t traced = tracePhotons(scene, seed, causticOnly ? 1 : 0, paths, maxBounces, [&](size_t c, const PhotonHit& h) {
     if (causticOnly && !h.specularChain) return;
     perChunk[c].push_back({h.si->p, h.wi, h.beta / float(paths), h.si->ng, h.bounces + 1});
-  });
+  }, progress);
   if (rays) *rays = traced;
   std::vector<Photon> all;
   for (auto& c : perChunk) all.insert(all.end(), c.begin(), c.end());  // chunk order: deterministic

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 #include "core/params.h"
+#include "core/progress.h"
 #include "core/scene.h"
 #include "integrators/photon_map/photon_map.h"
 
@@ -29,6 +30,6 @@ struct PhotonMapSettings {
 // Builds a photon map from `paths` photon paths; `causticOnly` keeps only
 // photons at the end of a specular chain (L S+ D). Deterministic for a seed.
 PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int maxBounces, bool causticOnly,
-                         uint64_t* rays = nullptr);
+                         Progress* progress = nullptr, uint64_t* rays = nullptr);
 
 }  // namespace lb

@@ -34,7 +34,7 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
 }
 
 uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
-                      const std::function<void(size_t, const PhotonHit&)>& visit) {
+                      const std::function<void(size_t, const PhotonHit&)>& visit, Progress* progress) {
   const LightSampler& lights = scene.lightSampler();
   if (lights.empty() || paths == 0) return 0;
   size_t chunks = (paths + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
@@ -67,6 +67,7 @@ uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t p
         }
       }
     totalRays += rays;
+    if (progress) progress->advance(double(std::min(paths, range.end() * PhotonPathsPerChunk) - range.begin() * PhotonPathsPerChunk));
   });
   return totalRays.load();
 }

@@ -7,6 +7,7 @@
 // in chunk order: deterministic for a fixed seed whatever the thread count.
 #include <cstdint>
 #include <functional>
+#include "core/progress.h"
 #include <optional>
 #include "core/sampler.h"
 #include "core/interaction.h"
@@ -42,7 +43,8 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
 // (path i uses random numbers seeded by (seed, i, pass)). Returns the number
 // of rays traced. maxBounces bounds the surface interactions per path, so
 // photons travel at most maxBounces segments.
+// `progress`, if given, advances by one per path.
 uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
-                      const std::function<void(size_t chunk, const PhotonHit&)>& visit);
+                      const std::function<void(size_t chunk, const PhotonHit&)>& visit, Progress* progress = nullptr);
 
 }  // namespace lb
