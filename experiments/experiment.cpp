@@ -43,6 +43,57 @@ void validateIntegrator(const std::string& name, const YAML::Node& params, const
   makeIntegrator(name, ip, file, ip.line());
 }
 
+// A configuration's `sweep: {key: [values], ...}`: one configuration per
+// combination (the cartesian product, keys in the order written), each
+// labelled "<label> key=value, ..." and grouped under <label> for the plots.
+std::vector<Configuration> expandSweep(Params& cp, const Configuration& base) {
+  auto sweep = cp.getChild("sweep");
+  if (!sweep) return {base};
+  std::vector<std::pair<std::string, YAML::Node>> axes;
+  size_t combinations = 1;
+  for (auto it = sweep->node().begin(); it != sweep->node().end(); ++it) {
+    std::string key = it->first.Scalar();
+    YAML::Node values = it->second;
+    if (!values.IsSequence() || values.size() == 0)
+      sweep->fail(key, "expected a non-empty list of values, e.g. " + key + ": [0.5, 0.7]");
+    for (const auto& v : values)
+      if (!v.IsScalar()) sweep->fail(key, "sweep values must be single values (numbers, names), got a list or mapping");
+    if (base.params[key]) sweep->fail(key, "is also given in params; give it in one place");
+    sweep->has(key);  // marks it read
+    axes.emplace_back(key, values);
+    combinations *= values.size();
+    // Each member is a full run per scene and repeat: a typo of a long list
+    // would otherwise schedule thousands.
+    if (combinations > 256) sweep->fail(key, "the sweep has more than 256 combinations");
+  }
+  if (axes.empty()) cp.fail("sweep", "expected at least one key: [values]");
+  std::vector<Configuration> out;
+  for (size_t index = 0; index < combinations; ++index) {
+    // Not a copy of `base`: a YAML::Node copy shares its node, and assigning
+    // to it would rewrite base's params. A new mapping holding the same value
+    // nodes keeps their lines in messages.
+    Configuration c;
+    c.integrator = base.integrator;
+    c.context = base.context;
+    for (auto it = base.params.begin(); it != base.params.end(); ++it) c.params[it->first] = it->second;
+    c.sweepGroup = base.label;
+    std::string suffix;
+    size_t rest = index;
+    // The last key varies fastest, as in nested loops written in file order.
+    std::vector<size_t> pick(axes.size());
+    for (size_t a = axes.size(); a-- > 0;) pick[a] = rest % axes[a].second.size(), rest /= axes[a].second.size();
+    for (size_t a = 0; a < axes.size(); ++a) {
+      YAML::Node v = axes[a].second[pick[a]];
+      c.params[axes[a].first] = v;
+      c.sweepValues[axes[a].first] = v;
+      suffix += (suffix.empty() ? "" : ", ") + axes[a].first + "=" + v.Scalar();
+    }
+    c.label = base.label + " " + suffix;
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
 // Params' own file, line and qualified key, as its errors would give them.
 KeyLocation locate(const Params& p, const std::string& key) {
   ConfigError where = p.error(key, "");
@@ -210,24 +261,27 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   std::vector<Params> configs = p.getList("configurations");
   if (configs.empty()) p.fail("configurations", "at least one configuration is required");
   for (Params& cp : configs) {
-    Configuration c;
-    c.integrator = cp.requireString("integrator");
-    c.label = cp.getString("label", c.integrator);
-    c.params = integratorParams(cp, "params");
-    c.context = cp.context() + ".params";
+    Configuration base;
+    base.integrator = cp.requireString("integrator");
+    base.label = cp.getString("label", base.integrator);
+    base.params = integratorParams(cp, "params");
+    base.context = cp.context() + ".params";
+    std::vector<Configuration> members = expandSweep(cp, base);
     cp.checkUnused();
-    for (const auto& other : e.configurations)
-      if (slug(other.label) == slug(c.label))
-        cp.fail("label", "label '" + c.label + "' collides with '" + other.label +
-                             "' (file names use letters and digits, lower case)");
-    if (!integratorExists(c.integrator)) {
-      std::string msg = "integrator '" + c.integrator + "' is not built (available: " + availableIntegrators() + ")";
+    if (!integratorExists(base.integrator)) {
+      std::string msg = "integrator '" + base.integrator + "' is not built (available: " + availableIntegrators() + ")";
       if (!options.quick) cp.fail("integrator", msg);
       warn(cp.file() + ":" + std::to_string(cp.line("integrator")) + ": " + msg + "; skipped under --quick");
       continue;
     }
-    validateIntegrator(c.integrator, c.params, cp.file(), cp.context() + ".params");
-    e.configurations.push_back(std::move(c));
+    for (Configuration& c : members) {
+      for (const auto& other : e.configurations)
+        if (slug(other.label) == slug(c.label))
+          cp.fail(c.sweepGroup.empty() ? "label" : "sweep", "label '" + c.label + "' collides with '" + other.label +
+                                                                "' (file names use letters and digits, lower case)");
+      validateIntegrator(c.integrator, c.params, cp.file(), c.sweepGroup.empty() ? c.context : cp.context() + ".sweep");
+      e.configurations.push_back(std::move(c));
+    }
   }
   if (e.configurations.empty()) p.fail("configurations", "no configuration can run");
 

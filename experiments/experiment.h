@@ -52,6 +52,10 @@ struct Configuration {
   std::string label, integrator;
   YAML::Node params{YAML::NodeType::Map};
   std::string context;         // "configurations[i].params": errors found while rendering name the key as written
+  // A member of a `sweep:` (one combination of its values): the configuration's
+  // own label, which groups the members in the plots, and the swept values.
+  std::string sweepGroup;
+  YAML::Node sweepValues{YAML::NodeType::Map};
 };
 
 enum class SnapshotSpacing { Log, Linear };
