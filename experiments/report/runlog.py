@@ -1,0 +1,186 @@
+"""A run's log.csv read into curves and final-snapshot statistics.
+
+Everything the report states about errors is computed here, from the log
+alone: the images are only shown, never measured again.
+"""
+import csv
+import math
+import re
+from collections import defaultdict
+
+# Integrators whose estimate is biased (consistent at best): a straight
+# line through their log error has no -0.5 (or -1) to be compared with, so
+# no slope is fitted. Used when meta.json does not say per configuration.
+BIASED_INTEGRATORS = ("photon", "sppm", "irradiance_cache")
+
+# Crop metrics: absent (empty cells) when the scene has no crop.
+CROP_KEYS = ("rmse_crop", "relmse_crop", "mape_crop")
+
+
+def read_log(path):
+    rows = []
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            try:
+                for k in ("time_s", "preprocess_s", "rmse", "relmse", "mape", "variance"):
+                    r[k] = float(r[k])
+                r["spp"] = int(r["spp"])
+                r["repeat"] = int(r["repeat"])
+                r["nonfinite"] = int(r["nonfinite"])
+                r["final"] = r["final"] == "1"
+                # Time past the budget (a preprocess or pass longer than the
+                # budget, issue 11); logs written before the column read 0.
+                r["over_budget_s"] = float(r.get("over_budget_s") or 0)
+                for k in CROP_KEYS:
+                    r[k] = float(r[k]) if r.get(k) else None
+                rows.append(r)
+            except (ValueError, KeyError, TypeError):
+                continue  # a torn last line of an interrupted run
+    return rows
+
+
+def group(rows):
+    """scene -> label -> repeat -> rows sorted by time (insertion ordered)."""
+    out = defaultdict(lambda: defaultdict(lambda: defaultdict(list)))
+    for r in rows:
+        out[r["scene"]][r["label"]][r["repeat"]].append(r)
+    for s in out.values():
+        for l in s.values():
+            for rep in l.values():
+                rep.sort(key=lambda r: r["time_s"])
+    return out
+
+
+def has_crop(labels):
+    return any(r["rmse_crop"] is not None for reps in labels.values() for rows in reps.values() for r in rows)
+
+
+def slope(points):
+    """Least-squares slope of log y on log x."""
+    pts = [(math.log(x), math.log(y)) for x, y in points if x > 0 and y > 0]
+    if len(pts) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    if sxx == 0:
+        return float("nan")
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+def interpolate_log(xs, ys, x):
+    """Log-log interpolation of a monotone-in-x curve; None outside its range."""
+    if x < xs[0] or x > xs[-1]:
+        return None
+    for i in range(1, len(xs)):
+        if x <= xs[i]:
+            x0, x1, y0, y1 = xs[i - 1], xs[i], ys[i - 1], ys[i]
+            if x1 == x0 or x0 <= 0 or y0 <= 0 or y1 <= 0:
+                return y1
+            t = (math.log(x) - math.log(x0)) / (math.log(x1) - math.log(x0))
+            return math.exp(math.log(y0) + t * (math.log(y1) - math.log(y0)))
+    return ys[-1]
+
+
+def band(repeats, key_x, key_y):
+    """Median, min and max over repeats on a common grid of x (the range all
+    repeats cover). The band is the min-max envelope of the repeats, not a
+    confidence interval: with two repeats it is just their spread."""
+    curves = [([r[key_x] for r in rows], [r[key_y] for r in rows])
+              for rows in repeats.values() if rows and all(r[key_y] is not None for r in rows)]
+    if not curves:
+        return [], [], [], []
+    lo = max(c[0][0] for c in curves)
+    hi = min(c[0][-1] for c in curves)
+    if not (lo > 0 and hi > lo):
+        xs, ys = curves[0]
+        return xs, ys, ys, ys
+    grid = [lo * (hi / lo) ** (i / 39) for i in range(40)]
+    grid[0], grid[-1] = lo, hi  # exact ends: rounding must not step outside any curve
+    xs_out, med, mn, mx = [], [], [], []
+    for x in grid:
+        vals = sorted(v for v in (interpolate_log(c[0], c[1], x) for c in curves) if v is not None)
+        if not vals:
+            continue
+        xs_out.append(x)
+        med.append(vals[len(vals) // 2] if len(vals) % 2 else 0.5 * (vals[len(vals) // 2 - 1] + vals[len(vals) // 2]))
+        mn.append(vals[0])
+        mx.append(vals[-1])
+    return xs_out, med, mn, mx
+
+
+def unbiased(label, integrator, meta):
+    """Whether a configuration's estimator is unbiased: meta.json's word when
+    it has one (an `unbiased` key per configuration), else by integrator,
+    VCM being unbiased only in its BDPT mode (integrators/registry.cpp)."""
+    for c in (meta or {}).get("configurations", []):
+        if c.get("label") == label:
+            if isinstance(c.get("unbiased"), bool):
+                return c["unbiased"]
+            if c.get("integrator"):
+                integrator = c["integrator"]
+            if integrator == "vcm":
+                # resolved_parameters: a mapping, or (older meta.json) its YAML flow text.
+                p = c.get("resolved_parameters") or {}
+                if isinstance(p, dict):
+                    return p.get("mode") == "bpt"
+                m = re.search(r"\bmode:\s*([A-Za-z_]+)", str(p))
+                return bool(m) and m.group(1) == "bpt"
+    if integrator == "vcm":
+        return False  # without meta.json the mode is unknown: VCM's default mode merges
+    return integrator not in BIASED_INTEGRATORS
+
+
+def no_slope_reason(t):
+    """Why a configuration gets no fitted slope, or None when it gets one."""
+    if not t["unbiased"]:
+        return "biased/consistent"
+    if t["time"] > 0 and t["preprocess"] > 0.5 * t["time"]:
+        return f"preprocess {100 * t['preprocess'] / t['time']:.0f} % of time"
+    return None
+
+
+def mean_sd(values):
+    n = len(values)
+    m = sum(values) / n
+    return m, (math.sqrt(sum((x - m) ** 2 for x in values) / (n - 1)) if n > 1 else 0.0)
+
+
+def summary(labels, meta=None):
+    """Per label: final metrics (mean over repeats), slopes and time to reach
+    the best final RMSE; and the label with the lowest final median RMSE."""
+    table = {}
+    for label, repeats in labels.items():
+        finals = [rows[-1] for rows in repeats.values() if rows]
+        n = len(finals)
+        mean = lambda k: sum(f[k] for f in finals) / n  # noqa: E731
+        rmse, rmse_sd = mean_sd([f["rmse"] for f in finals])
+        relmse, relmse_sd = mean_sd([f["relmse"] for f in finals])
+        t = dict(
+            integrator=finals[0]["integrator"], rmse=rmse, rmse_sd=rmse_sd, relmse=relmse, relmse_sd=relmse_sd,
+            mape=mean("mape"), variance=mean("variance"), time=mean("time_s"), spp=mean("spp"),
+            preprocess=mean("preprocess_s"), nonfinite=sum(f["nonfinite"] for f in finals), repeats=n,
+            over_budget=max(f["over_budget_s"] for f in finals),
+            efficiency=sum(1 / (f["rmse"] ** 2 * f["time_s"]) for f in finals if f["rmse"] > 0 and f["time_s"] > 0) / n,
+        )
+        for k in CROP_KEYS:
+            vals = [f[k] for f in finals if f[k] is not None]
+            t[k] = sum(vals) / len(vals) if vals else None
+        t["unbiased"] = unbiased(label, t["integrator"], meta)
+        t["no_slope"] = no_slope_reason(t)
+        for key in ("rmse", "relmse", "rmse_crop", "relmse_crop"):
+            pts = [(r["time_s"], r[key]) for rows in repeats.values() for r in rows if r[key] is not None]
+            t["slope_" + key] = None if t["no_slope"] else slope(pts)
+        table[label] = t
+    # "Time to reach the best final error" compares like with like: every
+    # configuration's median-over-repeats curve against the lowest final
+    # median, so the best configuration reaches it at its own final time.
+    bands = {label: band(repeats, "time_s", "rmse") for label, repeats in labels.items()}
+    best_label = min(bands, key=lambda l: bands[l][1][-1])
+    target = bands[best_label][1][-1]
+    best_eff = max(t["efficiency"] for t in table.values()) or 1
+    for label in labels:
+        xs, med, _, _ = bands[label]
+        table[label]["time_to_best"] = next((x for x, y in zip(xs, med) if y <= target), None)
+        table[label]["relative_efficiency"] = table[label]["efficiency"] / best_eff
+    return table, best_label

@@ -1,0 +1,328 @@
+"""experiments/report.py on a small synthetic run: the HTML's structure, its
+viewer's embedded data, and (headless Chromium) that the page's JavaScript
+runs without errors and the viewer responds to keys.
+
+    /usr/bin/python3 -m pytest tests/python
+
+The run folder has a space in its path, as a user's might.
+"""
+import base64
+import csv
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+matplotlib = pytest.importorskip("matplotlib")
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+REPORT = os.path.join(REPO, "experiments", "report.py")
+sys.path.insert(0, os.path.join(REPO, "experiments", "report"))
+import images  # noqa: E402
+import runlog  # noqa: E402
+
+CHROMIUM = "/usr/bin/chromium"
+SCENE = "box"
+W, H = 24, 16
+CROP = [4, 4, 12, 10]
+# Two configurations, one unbiased and one biased, so one slope is fitted and one is not.
+CONFIGS = [("alpha (path)", "path"), ("beta: photons", "photon")]
+FLOOR = 0.01  # beta's final RMSE is put within 3x of it
+
+
+def slug(s):
+    return "".join(c.lower() if c.isalnum() else "-" for c in s)
+
+
+def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False):
+    """structured: meta.json as the nlohmann-json writer has it (mappings
+    where the older writer wrote YAML flow text)."""
+    os.makedirs(run_dir)
+    rng = np.random.default_rng(1)
+    with open(os.path.join(run_dir, "log.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow("scene,label,integrator,repeat,seed,time_s,preprocess_s,spp,rmse,relmse,mape,variance,nonfinite,"
+                   "rmse_crop,relmse_crop,mape_crop,over_budget_s,final".split(","))
+        for label, integrator in CONFIGS:
+            for repeat in range(2):
+                for i, t in enumerate([0.25, 0.5, 1.0, 2.0]):
+                    # alpha falls as t^-0.5 (unbiased); beta flattens at 0.015, within 3x the floor.
+                    rmse = (0.1 * t ** -0.5 if integrator == "path" else 0.015 + 0.02 * t ** -1) * (1 + 0.05 * repeat)
+                    w.writerow([SCENE, label, integrator, repeat, 1 + 7919 * repeat, t, 0.01, 8 * 2 ** i, rmse,
+                                rmse ** 2 * 3, 10 * rmse, rmse ** 2, 0, 2 * rmse, 6 * rmse ** 2, 20 * rmse, 0,
+                                int(i == 3)])
+    # The images: dim, so that the viewer's exposure has room to brighten them.
+    ref = 0.05 + 0.25 * rng.random((H, W, 3))
+    images = {"reference": ref}
+    for label, _ in CONFIGS:
+        images[slug(label)] = np.clip(ref + 0.1 * rng.standard_normal((H, W, 3)), 0, 1)
+    x0, y0, x1, y1 = CROP
+    for name, img in images.items():
+        stem = os.path.join(run_dir, f"{SCENE}__{name}")
+        mpimg.imsave(stem + ".png", img)
+        mpimg.imsave(stem + "_crop.png", np.kron(img[y0:y1, x0:x1], np.ones((4, 4, 1))))
+        if name != "reference":
+            err = rng.random((H, W, 3))
+            mpimg.imsave(stem + "_error.png", err)
+            mpimg.imsave(stem + "_error_crop.png", np.kron(err[y0:y1, x0:x1], np.ones((4, 4, 1))))
+    if not with_meta:
+        return
+    meta = {
+        "experiment": "synthetic", "lightbench": "test", "git_commit": "0000000", "started": "now",
+        "finished": "later", "machine": {"cpu": "test"}, "threads_per_run": 1, "jobs": 1,
+        "budget": {"seconds": 2, "spp": 0}, "repeats": 2, "seeds": [1, 7920],
+        "metrics": ["rmse", "relmse", "mape", "variance"], "relmse_epsilon": 0.01,
+        "scenes": [{"name": SCENE, "reference": "", "reference_integrator": "path {} 64 spp",
+                    "reference_used": "", "reference_rmse_floor": floor, "crop": CROP}],
+        "configurations": [{"label": l, "integrator": i, "resolved_parameters": "{}"} for l, i in CONFIGS],
+    }
+    if structured:
+        meta["scenes"][0]["reference_integrator"] = {"name": "path", "params": {"mis": "power"}, "budget": "64 spp"}
+        meta["scenes"][0]["reference_exr"] = f"{SCENE}__reference.exr"  # not written: the viewer falls back
+        for c in meta["configurations"]:
+            c["resolved_parameters"] = {"max_depth": 32}
+            c["unbiased"] = c["integrator"] == "path"
+    with open(os.path.join(run_dir, "meta.json"), "w") as f:
+        json.dump(meta, f)
+    with open(os.path.join(run_dir, "decomposition.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow("scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,"
+                   "variance_high,reference_variance".split(","))
+        for label, integrator in CONFIGS:
+            w.writerow([SCENE, label, integrator, 2, 1e-3, 1e-4, 0, 2e-4, 9e-4, 8e-4, 1e-3, 1e-5])
+
+
+def run_report(arg):
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    p = subprocess.run(["/usr/bin/python3", REPORT, arg], capture_output=True, text=True, timeout=60, env=env)
+    assert p.returncode == 0, p.stderr
+    return p
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    run_dir = str(tmp_path_factory.mktemp("report") / "results with space" / "run 1")
+    write_run(run_dir)
+    run_report(run_dir)
+    path = os.path.join(run_dir, "report.html")
+    with open(path, encoding="utf-8") as f:
+        return path, f.read()
+
+
+def test_report_has_one_row_per_configuration(report):
+    _, text = report
+    rows = re.findall(r"<div class='rowlabel'>.*?<b>(.*?)</b>", text)
+    assert rows == ["reference"] + [l for l, _ in CONFIGS]
+    for label, _ in CONFIGS:  # image, error image, crop and the crop's error, captioned
+        for kind in ("", " — error", " — crop", " — error, crop"):
+            assert f"<figcaption>{label}{kind}</figcaption>" in text
+        assert re.search(rf"<tr><td>[^<]*</td><td>{re.escape(label)}</td>", text), label
+    assert "Final MSE split over the repeats" in text
+    assert "class='croprect'" in text and "class='cbar'" in text
+
+
+def test_report_is_self_contained(report):
+    _, text = report
+    with open(os.path.join(REPO, "experiments", "report", "viewer.js")) as f:
+        assert f.read().strip() in text, "viewer.js is inlined"
+    assert not re.search(r"<script[^>]*\bsrc=", text)
+    assert not re.search(r"""(?:src|href)\s*=\s*["']?\s*(?:https?:)?//""", text), "no external resources"
+    assert "http://" not in text and "https://" not in text
+    for src in re.findall(r"<img src='([^']*)'", text):
+        assert src.startswith("data:image/png;base64,")
+
+
+def test_viewer_data_decode_to_the_images(report):
+    path, text = report
+    data = json.loads(re.search(r"<script type='application/json' id='lbv-data-0'>(.*?)</script>", text).group(1))
+    assert (data["width"], data["height"], data["downsample"], data["crop"]) == (W, H, 1, CROP)
+    assert [im["name"] for im in data["images"]] == ["reference"] + [l for l, _ in CONFIGS]
+    ref = np.frombuffer(base64.b64decode(data["images"][0]["data"]), dtype="<f2").reshape(H, W, 3)
+    png = mpimg.imread(os.path.join(os.path.dirname(path), f"{SCENE}__reference.png"))[..., :3]
+    linear = np.where(png <= 0.04045, png / 12.92, ((png + 0.055) / 1.055) ** 2.4)
+    assert np.allclose(ref, linear, rtol=2e-3, atol=1e-4)
+    assert data["source"] == "png" or "lightbench" not in text  # no EXRs in this run
+    assert "exposure is limited to the display range" in text
+
+
+def test_no_slope_for_biased_and_noise_floor_warning(report):
+    _, text = report
+    beta = CONFIGS[1][0]
+    row = re.search(rf"<tr><td>([^<]*)</td><td>{re.escape(beta)}</td>.*?</tr>", text).group(0)
+    assert "—<sup>b</sup>" in row and "no verdict (reference too noisy)" in row
+    assert "Reference too noisy for: " + beta in text
+    assert "median over the 2 repeats; shaded bands: min–max over the repeats" in text
+    alpha = re.search(rf"<tr><td>1</td><td>{re.escape(CONFIGS[0][0])}</td>.*?</tr>", text).group(0)
+    assert "-0.50" in alpha  # 0.1 t^-0.5, with a constant factor between repeats
+
+
+def test_no_floor_ranks_all_and_structured_meta(tmp_path):
+    run_dir = str(tmp_path / "no floor")
+    write_run(run_dir, floor=None, structured=True)
+    run_report(run_dir)
+    with open(os.path.join(run_dir, "report.html"), encoding="utf-8") as f:
+        text = f.read()
+    assert "no verdict" not in text and "Reference too noisy" not in text
+    assert "<tr><td>1</td>" in text and "<tr><td>2</td>" in text
+    assert "path {mis: power} 64 spp" in text
+    assert "—<sup>b</sup>" in text
+
+
+def test_log_only_gives_plots(tmp_path):
+    run_dir = str(tmp_path / "log only")
+    write_run(run_dir, with_meta=False)
+    run_report(os.path.join(run_dir, "log.csv"))
+    for name in ("rmse_vs_time.png", f"{SCENE}__rmse_vs_time.svg", f"{SCENE}__relmse_vs_time.png",
+                 f"{SCENE}__rmse_vs_spp.png", f"{SCENE}__convergence.png", f"{SCENE}__crop_convergence.png",
+                 f"{SCENE}__efficiency.png"):
+        assert os.path.exists(os.path.join(run_dir, name)), name
+    assert not os.path.exists(os.path.join(run_dir, "report.html"))
+
+
+def test_slope_rules():
+    t = dict(unbiased=True, time=10.0, preprocess=6.0)
+    assert runlog.no_slope_reason(t).startswith("preprocess 60 %")
+    assert runlog.no_slope_reason(dict(t, preprocess=1.0)) is None
+    assert runlog.no_slope_reason(dict(t, unbiased=False)) == "biased/consistent"
+    meta = {"configurations": [{"label": "a", "integrator": "vcm", "resolved_parameters": "{mode: bpt, rr: true}"},
+                               {"label": "b", "integrator": "vcm", "resolved_parameters": "{mode: bpm}"},
+                               {"label": "c", "integrator": "sppm", "unbiased": True}]}
+    assert runlog.unbiased("a", "vcm", meta) and not runlog.unbiased("b", "vcm", meta)
+    assert runlog.unbiased("c", "sppm", meta), "meta.json's word wins"
+    assert not runlog.unbiased("x", "irradiance_cache", None) and runlog.unbiased("x", "bdpt", None)
+    assert math.isclose(runlog.slope([(1, 1), (4, 0.5), (16, 0.25)]), -0.5)
+
+
+def test_keeps_what_the_runner_test_reads(report):
+    """tests/experiments/runner_test.cpp counts the report's <img src=' tags:
+    three plots, and per row of the grid the image and error image, full
+    frame and crop (the reference: image and crop)."""
+    _, text = report
+    assert text.count("<img src='") == 3 + 2 + 4 * len(CONFIGS)
+
+
+def test_reference_exr_is_found_in_the_cache(tmp_path):
+    run_dir = tmp_path / "res ults" / "exp" / "run 1"
+    (tmp_path / "res ults" / "references").mkdir(parents=True)
+    run_dir.mkdir(parents=True)
+    for name in ("box-abc123.exr", "box-abc123.variance.exr", "box-other.exr"):
+        (tmp_path / "res ults" / "references" / name).write_bytes(b"")
+    path, _ = images.reference_exr(str(run_dir), {"reference": "abc123"}, {})
+    assert path == str(tmp_path / "res ults" / "references" / "box-abc123.exr")
+    path, where = images.reference_exr(str(run_dir), {"reference": "nothere"}, {})
+    assert path is None and "nothere" in where
+
+
+def test_viewer_payload_from_exrs_keeps_values_above_one(tmp_path, monkeypatch):
+    """With read_exr (faked here) the viewer gets linear values beyond the
+    PNG's range; a long image is box-filtered to at most 512 pixels."""
+    run_dir = tmp_path / "results" / "exp" / "run"
+    run_dir.mkdir(parents=True)
+    (tmp_path / "results" / "references").mkdir()
+    big = np.full((300, 1100, 3), 0.5, np.float32)
+    big[:, :3] = 17.0  # a light: the first 3x3 boxes of the filtered image stay at 17
+    for stem in ("box__reference", "box__a"):
+        mpimg.imsave(str(run_dir / (stem + ".png")), np.clip(big, 0, 1))
+        (run_dir / (stem + ".exr")).write_bytes(b"")
+    (tmp_path / "results" / "references" / "box-k1.exr").write_bytes(b"")
+
+    class Fake:
+        @staticmethod
+        def read_exr(path):
+            return big
+    monkeypatch.setattr(images, "lightbench", Fake)
+    payload, notes = images.viewer_payload(str(run_dir), "box", ["a"], {"a": "a"}, {"reference": "k1", "crop": None},
+                                           {"relmse_epsilon": 0.01})
+    assert payload["source"] == "exr" and payload["downsample"] == 3
+    assert (payload["width"], payload["height"]) == (366, 100)
+    assert any("box-filtered down by 3×" in n for n in notes)
+    ref = np.frombuffer(base64.b64decode(payload["images"][0]["data"]), dtype="<f2").reshape(100, 366, 3)
+    assert ref[0, 0, 0] == 17.0 and ref[0, 1, 0] == np.float16(0.5)
+
+
+# ---- headless Chromium -------------------------------------------------------
+
+# Appended to a copy of the report: drives the first viewer through keys and
+# its exposure slider, and logs the centre pixel after each step.
+HARNESS = """<script>
+window.addEventListener('load', () => {
+  const v = document.querySelector('.lb-viewer'), c = v.querySelector('canvas');
+  // Read through a canvas of our own, made for readback (else Chromium logs a hint).
+  const probe = document.createElement('canvas'), g = probe.getContext('2d', {willReadFrequently: true});
+  probe.width = probe.height = 1;
+  const px = () => {
+    // Image pixel (18, 8) of 24 x 16: clear of the crop's red outline.
+    g.drawImage(c, Math.floor(c.width * 0.77), Math.floor(c.height * 0.53), 1, 1, 0, 0, 1, 1);
+    return Array.from(g.getImageData(0, 0, 1, 1).data.slice(0, 3));
+  };
+  const key = k => document.dispatchEvent(new KeyboardEvent('keydown', {key: k}));
+  const out = {buttons: v.querySelectorAll('.lbv-button').length, method: px()};
+  key('1'); out.unhovered = px();  // keys reach a viewer only under the pointer (or focused)
+  v.dispatchEvent(new PointerEvent('pointerenter'));
+  key('1'); out.reference = px(); out.name = v.querySelector('.lbv-name').textContent;
+  const s = v.querySelector('input[type=range]'); s.value = 3; s.dispatchEvent(new Event('input'));
+  out.brighter = px();
+  key('3'); key('e'); out.error = px();
+  console.log('harness ' + JSON.stringify(out));
+});
+</script>"""
+
+
+def chromium(html_path, tmp_path, *extra):
+    if not os.path.exists(CHROMIUM):
+        pytest.skip("no /usr/bin/chromium")
+    shot = str(tmp_path / "shot.png")
+    cmd = [CHROMIUM, "--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run", "--enable-logging=stderr",
+           "--v=0", f"--user-data-dir={tmp_path / 'profile'}", f"--screenshot={shot}", "--window-size=1280,1600",
+           *extra, "file://" + html_path.replace(" ", "%20")]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=30)
+    console = [l for l in p.stderr.splitlines() if "CONSOLE" in l or "Uncaught" in l]
+    return shot, console
+
+
+def unexpected(console):
+    # Every console line must be one of ours: an exception or a console.error would be another.
+    return [l for l in console if not re.search(r'"(viewer ready \d+ images|harness \{.*\})"', l)]
+
+
+def test_chromium_runs_the_viewer(report, tmp_path):
+    path, text = report
+    harnessed = os.path.join(os.path.dirname(path), "harnessed report.html")
+    with open(harnessed, "w", encoding="utf-8") as f:
+        f.write(text.replace("</body>", HARNESS + "</body>"))
+    shot, console = chromium(harnessed, tmp_path)
+    assert not unexpected(console), console
+    assert any('"viewer ready 3 images"' in l for l in console), console
+    out = json.loads(next(re.search(r'"harness (\{.*\})"', l).group(1).replace('\\"', '"')
+                          for l in console if '"harness {' in l))
+    assert out["buttons"] == 3 and out["name"] == "reference"
+    assert out["method"] != out["reference"], "key 1 flips to the reference"
+    assert out["unhovered"] == out["method"], "keys elsewhere on the page leave the viewer alone"
+    assert all(b >= r for b, r in zip(out["brighter"], out["reference"])) and out["brighter"] != out["reference"]
+    # The error view's colour lies on the runner's false-colour ramp (five viridis stops, linear between).
+    stops = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], float)
+    ramp = np.array([np.interp(np.linspace(0, 4, 401), range(5), stops[:, c]) for c in range(3)]).T
+    assert np.abs(ramp - out["error"]).sum(axis=1).min() < 6, out["error"]
+    assert np.abs(ramp - out["brighter"]).sum(axis=1).min() > 6, "the image view is not on the ramp"
+    image = mpimg.imread(shot)
+    assert image.shape[1] == 1280 and image[..., :3].var() > 1e-3, "the screenshot is not blank"
+
+
+def test_chromium_check_catches_a_broken_script(report, tmp_path):
+    """The console check above must be able to fail: a syntax error in the
+    inlined viewer shows as an uncaught error, and no "viewer ready"."""
+    path, text = report
+    broken = os.path.join(os.path.dirname(path), "broken report.html")
+    with open(broken, "w", encoding="utf-8") as f:
+        f.write(text.replace("'use strict';", "'use strict'; const = ;", 1))
+    _, console = chromium(broken, tmp_path)
+    assert unexpected(console) and not any("viewer ready" in l for l in console), console
+    shutil.rmtree(tmp_path / "profile", ignore_errors=True)
