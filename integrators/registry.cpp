@@ -2,6 +2,7 @@
 #include <iomanip>
 #include <sstream>
 #include "integrators/bdpt/bdpt.h"
+#include "integrators/direct/direct_lighting.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
 #include "integrators/path/path_tracer.h"
@@ -30,6 +31,8 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<Sppm>(SppmSettings::read(p)); }, never},
       {"irradiance_cache", "irradiance caching with gradients (Ward 1988/1992): path or photon-map base estimator",
        [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }, never},
+      {"direct", "direct lighting: emitters seen and reflected once, light and BSDF samples with MIS (the worked example)",
+       [](Params& p) { return std::make_unique<DirectLighting>(DirectLightingSettings::read(p)); }, always},
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
        [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
        [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
