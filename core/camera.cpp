@@ -3,7 +3,7 @@
 namespace lb {
 
 Camera::Camera(Vec3 position, Vec3 lookAt, Vec3 up, float fovYDegrees, int width, int height)
-    : position_(position), width_(width), height_(height) {
+    : position_(position), width_(width), height_(height), fullWidth_(width), fullHeight_(height) {
   forward_ = glm::normalize(lookAt - position);
   right_ = glm::normalize(glm::cross(forward_, up));
   up_ = glm::cross(right_, forward_);
@@ -12,9 +12,15 @@ Camera::Camera(Vec3 position, Vec3 lookAt, Vec3 up, float fovYDegrees, int width
   planeArea_ = 4 * tanHalfX_ * tanHalfY_;
 }
 
+void Camera::crop(int x0, int y0, int x1, int y1) {
+  offsetX_ += x0, offsetY_ += y0;
+  width_ = x1 - x0, height_ = y1 - y0;
+  planeArea_ = 4 * tanHalfX_ * tanHalfY_ * float(width_) * float(height_) / (float(fullWidth_) * float(fullHeight_));
+}
+
 Ray Camera::generateRay(Vec2 raster) const {
-  float x = (2 * raster.x / width_ - 1) * tanHalfX_;
-  float y = (1 - 2 * raster.y / height_) * tanHalfY_;
+  float x = (2 * (raster.x + float(offsetX_)) / float(fullWidth_) - 1) * tanHalfX_;
+  float y = (1 - 2 * (raster.y + float(offsetY_)) / float(fullHeight_)) * tanHalfY_;
   return {position_, glm::normalize(x * right_ + y * up_ + forward_), Infinity};
 }
 
@@ -22,7 +28,8 @@ std::optional<Vec2> Camera::rasterOf(const Vec3& dir) const {
   float cos = glm::dot(dir, forward_);
   if (cos <= 0) return std::nullopt;
   float x = glm::dot(dir, right_) / cos, y = glm::dot(dir, up_) / cos;
-  Vec2 raster((x / tanHalfX_ + 1) / 2 * width_, (1 - y / tanHalfY_) / 2 * height_);
+  Vec2 raster((x / tanHalfX_ + 1) / 2 * float(fullWidth_) - float(offsetX_),
+              (1 - y / tanHalfY_) / 2 * float(fullHeight_) - float(offsetY_));
   if (raster.x < 0 || raster.x >= width_ || raster.y < 0 || raster.y >= height_) return std::nullopt;
   return raster;
 }

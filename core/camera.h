@@ -4,6 +4,10 @@
 // We(ω) = 1/(A cos⁴θ), the direction pdf of a camera ray 1/(A cos³θ), and the
 // position is a delta at the pinhole (Veach 1997 §10.3; pbrt-v4 §5.4).
 // Raster coordinates run over [0, width) × [0, height), y down.
+// A crop window (render --crop) makes the camera's image a sub-rectangle of
+// its film: an off-axis window of the same image plane, whose pixels are the
+// full film's pixels. Importance is then normalised over the window (its
+// area A), so each pixel estimates the same value as in the full render.
 #include <optional>
 #include "core/ray.h"
 
@@ -35,11 +39,17 @@ class Camera {
   void pdfWe(const Vec3& dir, float* pdfPos, float* pdfDir) const;
   std::optional<CameraConnection> connect(const Vec3& p) const;
   float imagePlaneArea() const { return planeArea_; }
+  // Keeps only pixels [x0, x1) × [y0, y1) of the current image (in its raster
+  // coordinates); width() and height() become the window's. The caller checks
+  // the window lies inside the image.
+  void crop(int x0, int y0, int x1, int y1);
 
  private:
   Vec3 position_{0.f}, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
   float tanHalfX_ = 1, tanHalfY_ = 1, planeArea_ = 4;
   int width_ = 1, height_ = 1;
+  int fullWidth_ = 1, fullHeight_ = 1;  // the uncropped film
+  int offsetX_ = 0, offsetY_ = 0;       // the window's corner in the uncropped film
 };
 
 }  // namespace lb

@@ -26,6 +26,7 @@ struct RenderArgs {
   double worldScale = 0;               // > 0: the scene scaled (camera, lights and radii too)
   bool strict = false;                 // an imported scene's unsupported elements are errors
   std::string resolution;              // "WxH": replaces the scene's film size
+  std::string crop;                    // "X0,Y0,X1,Y1": render only these pixels of the film
   float exposure = 0;                  // the PNG preview's, in stops
   std::vector<std::string> aovs;       // layers: albedo, normal, depth, variance, spp
 };

@@ -1,4 +1,5 @@
 #include "experiments/cli/flag_checks.h"
+#include <sstream>
 #include <fcntl.h>
 #include <unistd.h>
 #include <cerrno>
@@ -100,6 +101,27 @@ bool parseResolution(const std::string& text, int& width, int& height) {
     return v >= 1 && v <= 16384;
   };
   return whole(text.substr(0, x), width) && whole(text.substr(x + 1), height);
+}
+
+bool parseCrop(const std::string& text, int (&w)[4]) {
+  std::stringstream in(text);
+  std::string part;
+  for (int i = 0; i < 4; ++i) {
+    if (!std::getline(in, part, ',') || part.empty() || part.size() > 5 ||
+        part.find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    w[i] = std::stoi(part);
+  }
+  return !std::getline(in, part) && w[0] < w[2] && w[1] < w[3];
+}
+
+CLI::Validator cropWindow() {
+  return CLI::Validator(
+      [](std::string& text) {
+        int w[4];
+        return parseCrop(text, w) ? std::string() : "must be X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1" + got(text);
+      },
+      "X0,Y0,X1,Y1");
 }
 
 CLI::Validator resolution() {

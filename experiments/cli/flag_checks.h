@@ -26,6 +26,10 @@ CLI::Validator outputFileName();
 // "WxH": two whole numbers from 1 to 16384, e.g. 640x480.
 CLI::Validator resolution();
 bool parseResolution(const std::string& text, int& width, int& height);
+// "X0,Y0,X1,Y1": four whole numbers with X0 < X1 and Y0 < Y1 (the film's
+// bounds are checked once the scene is loaded).
+CLI::Validator cropWindow();
+bool parseCrop(const std::string& text, int (&window)[4]);
 
 // A ConfigError about a flag: "command line: 'flag': message".
 ConfigError flagError(const std::string& flag, const std::string& message);

@@ -131,6 +131,9 @@ struct Prepared {
   IntegratorChoice choice;
   Params params;
   std::unique_ptr<Integrator> integrator;
+  // Owned here, not by the render: an integrator may keep a pointer to it for
+  // its extra outputs (the irradiance cache's record image), written later.
+  std::unique_ptr<Film> film;
 };
 
 Prepared prepare(const RenderArgs& args) {
@@ -151,11 +154,20 @@ Prepared prepare(const RenderArgs& args) {
   SceneLoadOptions loadOptions;
   loadOptions.strict = args.strict;
   SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
+  if (!args.crop.empty()) {
+    int w[4];
+    Camera& cam = sf.scene->camera;
+    if (!parseCrop(args.crop, w)) throw flagError("--crop", "must be X0,Y0,X1,Y1, got '" + args.crop + "'");
+    if (w[2] > cam.width() || w[3] > cam.height())
+      throw flagError("--crop", "the window " + args.crop + " is not inside the " + std::to_string(cam.width()) + "x" +
+                                    std::to_string(cam.height()) + " film");
+    cam.crop(w[0], w[1], w[2], w[3]);
+  }
   IntegratorChoice choice = chooseIntegrator(sf, args);
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);
   auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
-  return {std::move(sf), std::move(choice), std::move(params), std::move(integrator)};
+  return {std::move(sf), std::move(choice), std::move(params), std::move(integrator), nullptr};
 }
 
 // The AOV layers asked for, in the order of aovNames().
@@ -191,8 +203,9 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   options.progress = !args.quiet;
 
   const Camera& cam = job.sf.scene->camera;
-  Film film(cam.width(), cam.height());
-  RenderReport rep = renderLoop(*job.sf.scene, *job.integrator, film, job.sf.sampler, options);
+  job.film = std::make_unique<Film>(cam.width(), cam.height());
+  const Film& film = *job.film;
+  RenderReport rep = renderLoop(*job.sf.scene, *job.integrator, *job.film, job.sf.sampler, options);
 
   YAML::Node resolved;
   resolved["lightbench"] = versionString();

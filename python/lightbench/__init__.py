@@ -40,7 +40,8 @@ class RenderedImage(np.ndarray):
         self.layers = getattr(obj, "layers", {})
 
 
-def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, threads=0, progress=False, aovs=()):
+def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, threads=0, progress=False, aovs=(),
+           resolution=None, crop=None):
     """Renders `scene` (a YAML scene or a Mitsuba .xml) and returns a RenderedImage.
 
     integrator: a name from lightbench.integrators() (default: the scene's, else
@@ -50,7 +51,9 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
     seed gives the same image at any thread count; threads: 0 = all cores;
     aovs: any of "albedo", "normal", "depth", "variance", "spp", returned in
     .layers (with the integrator's own layers, e.g. BDPT's strategy images),
-    as `lightbench render --aov` writes them into the EXR.
+    as `lightbench render --aov` writes them into the EXR; resolution:
+    (width, height) replaces the scene's film size; crop: (x0, y0, x1, y1)
+    renders only that window of the film, [x0, x1) x [y0, y1).
     """
     if spp is not None and seconds is not None:
         raise ValueError("give spp or seconds, not both")
@@ -62,7 +65,9 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
     overrides = [f"{k}={json.dumps(v)}" for k, v in (params or {}).items()]
     array, resolved, report, layers = _core.render(os.fspath(scene), integrator or "", overrides, int(spp or 0),
                                                    float(seconds or 0), int(seed), int(threads), bool(progress),
-                                                   list(aovs))
+                                                   list(aovs),
+                                                   "%dx%d" % tuple(resolution) if resolution else "",
+                                                   ",".join(str(int(v)) for v in crop) if crop else "")
     image = array.view(RenderedImage)
     image.metadata = dict(yaml.safe_load(resolved), **report)
     image.layers = layers

@@ -62,8 +62,10 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "render",
       [](const std::string& scene, const std::string& integrator, const std::vector<std::string>& overrides,
-         uint64_t spp, double seconds, uint64_t seed, int threads, bool progress, const std::vector<std::string>& aovs) {
+         uint64_t spp, double seconds, uint64_t seed, int threads, bool progress, const std::vector<std::string>& aovs,
+         const std::string& resolution, const std::string& crop) {
         RenderArgs args;
+        args.resolution = resolution, args.crop = crop;
         args.scene = scene, args.integrator = integrator, args.overrides = overrides, args.aovs = aovs;
         for (const auto& a : aovs)
           if (std::find(aovNames().begin(), aovNames().end(), a) == aovNames().end())
@@ -79,7 +81,8 @@ PYBIND11_MODULE(_core, m) {
         return py::make_tuple(toArray(r.image), r.resolvedYaml, reportDict(r.report), layers);
       },
       py::arg("scene"), py::arg("integrator"), py::arg("overrides"), py::arg("spp"), py::arg("seconds"),
-      py::arg("seed"), py::arg("threads"), py::arg("progress"), py::arg("aovs"));
+      py::arg("seed"), py::arg("threads"), py::arg("progress"), py::arg("aovs"), py::arg("resolution"),
+      py::arg("crop"));
   m.def("read_exr_layer", [](const std::string& path, const std::string& layer) { return toArray(readExrLayer(path, layer)); },
         py::arg("path"), py::arg("layer"));
   m.def("read_exr_attributes", &readExrAttributes, py::arg("path"));

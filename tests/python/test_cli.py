@@ -95,3 +95,43 @@ def test_bash_completion(binary, words, expected):
              'printf "%s\\n" "${COMPREPLY[@]}"')
     out = subprocess.run(["bash", "-c", probe], capture_output=True, text=True, check=True).stdout.split()
     assert expected in out, out
+
+
+def region_z_scores(a, var_a, b, var_b, regions=4):
+    """z of the difference of region means, the variance of each mean from the
+    films' per-pixel variance of the estimate (independent pixels)."""
+    h, w, _ = a.shape
+    zs = []
+    for i in range(regions):
+        for j in range(regions):
+            ys, xs = slice(i * h // regions, (i + 1) * h // regions), slice(j * w // regions, (j + 1) * w // regions)
+            n = a[ys, xs].shape[0] * a[ys, xs].shape[1]
+            diff = a[ys, xs].reshape(-1, 3).mean(0) - b[ys, xs].reshape(-1, 3).mean(0)
+            var = (var_a[ys, xs].reshape(-1, 3).sum(0) + var_b[ys, xs].reshape(-1, 3).sum(0)) / n ** 2
+            zs.extend(diff / np.sqrt(np.maximum(var, 1e-30)))
+    return np.array(zs)
+
+
+@pytest.mark.parametrize("integrator", ["path", "light", "bdpt"])
+def test_a_crop_window_estimates_the_same_pixels(small_scene, integrator):
+    """render --crop: the window's pixels estimate what they do in the full
+    render (the camera's importance is renormalised over the window: light
+    tracing and BDPT's t = 1 strategies splat through it)."""
+    from statistics import NormalDist
+    window = (12, 4, 28, 20)  # 16 x 16 pixels of a 32 x 24 film
+    full = lightbench.render(small_scene, integrator=integrator, spp=4096, seed=1, aovs=["variance"],
+                             resolution=(32, 24))
+    crop = lightbench.render(small_scene, integrator=integrator, spp=4096, seed=2, aovs=["variance"],
+                             resolution=(32, 24), crop=window)
+    assert crop.shape == (16, 16, 3)
+    x0, y0, x1, y1 = window
+    z = region_z_scores(crop, crop.layers["variance"], full[y0:y1, x0:x1], full.layers["variance"][y0:y1, x0:x1])
+    critical = NormalDist().inv_cdf(1 - (1 - (1 - 1e-3) ** (1 / len(z))) / 2)  # Šidák over regions and channels
+    assert np.abs(z).max() < critical, (np.abs(z).max(), critical)
+
+
+def test_a_crop_outside_the_film_is_refused(binary, small_scene):
+    p = run(binary, "render", small_scene, "--spp", 1, "--crop", "0,0,25,10", check=False)
+    assert p.returncode == 2 and "'--crop'" in p.stderr and "not inside the 24x16 film" in p.stderr
+    p = run(binary, "render", small_scene, "--spp", 1, "--crop", "5,0,5,10", check=False)
+    assert p.returncode == 2 and "--crop" in p.stderr
