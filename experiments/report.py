@@ -18,7 +18,10 @@ Per scene it draws (SCENE__NAME.{png,svg}, experiments/report/plots.py)
     (about -0.5 for RMSE, -1 for relMSE); the panels also on their own
     (rmse_vs_time, relmse_vs_time, rmse_vs_spp);
   * crop_convergence: the same against time for the scene's crop, if it has one;
-  * efficiency 1 / (MSE x time) at the final snapshot (Veach 1997, section 2.4).
+  * efficiency 1 / (MSE x time) at the final snapshot (Veach 1997, section 2.4);
+  * per parameter sweep (meta.json's configurations[].sweep), its final RMSE
+    against the swept value (sweep-GROUP); its members share a colour family
+    in every plot and stand together under the group's name in the legends.
 """
 import csv
 import html
@@ -33,15 +36,10 @@ sys.path.insert(0, os.path.join(HERE, "report"))
 from verdict import NO_VERDICT_FACTOR  # noqa: E402 (this script's folder is on sys.path)
 import images  # noqa: E402
 import page  # noqa: E402
-from plots import plot_scene  # noqa: E402
-from runlog import group, has_crop, read_log, summary  # noqa: E402
+from plots import plot_scene, value_text  # noqa: E402
+from runlog import group, has_crop, read_log, slug, summary, sweep_members  # noqa: E402
 
 esc = html.escape
-
-
-def slug(s):
-    """experiments/experiment.cpp slug(): the image files' names."""
-    return "".join(c.lower() if c.isalnum() else "-" for c in s)
 
 
 def read_decomposition(run_dir):
@@ -103,6 +101,17 @@ def convergence_caption(repeats, floor, crop=None):
     return text
 
 
+def sweep_caption(group, members, repeats):
+    keys = list(members[0][1])
+    values = list(dict.fromkeys(value_text(v[keys[0]]) for _, v in members))
+    lines = (f"; one line per value of {esc(', '.join(keys[1:]))}" if len(keys) > 1 else "")
+    faint = "; faint lines: each repeat on its own, the members sharing the repeats' seeds" if len(keys) == 1 else ""
+    spread = f"mean over the {repeats} repeats (error bars: min–max over them{faint})" if repeats > 1 else "one repeat"
+    return (f"Sweep <b>{esc(group)}</b>: {len(members)} configurations. Final RMSE, {spread}, against "
+            f"{esc(keys[0])} ({esc(', '.join(values))}){lines}. In the other plots its members share one colour "
+            "family, lighter to darker in the experiment's order, and stand under its name in the legend.")
+
+
 def write_report(run_dir, grouped, meta):
     parts = [page.head(meta.get("experiment", "")), page.run_header(meta)]
     scenes_meta = {s["name"]: s for s in meta.get("scenes", [])}
@@ -117,7 +126,8 @@ def write_report(run_dir, grouped, meta):
         sm = scenes_meta.get(scene, {})
         floor = sm.get("reference_rmse_floor")
         table, best = summary(labels, meta)
-        plots, colour = plot_scene(scene, labels, table, run_dir, floor)
+        sweeps = sweep_members(labels, meta)
+        plots, colour = plot_scene(scene, labels, table, run_dir, floor, sweeps)
         files[scene] = plots
         repeats = max(len(r) for r in labels.values())
         slugs = {l: slug(l) for l in labels}
@@ -136,6 +146,10 @@ def write_report(run_dir, grouped, meta):
         if "crop_convergence" in plots:
             caption = convergence_caption(repeats, None, sm.get("crop"))
             parts.append(page.plot_figure(plots["crop_convergence"], caption))
+        if sweeps:
+            parts.append("<h3>Parameter sweeps</h3><div class='sweeps'>" + "".join(
+                page.plot_figure(plots["sweeps"][g], sweep_caption(g, m, repeats)) for g, m in sweeps.items())
+                + "</div>")
 
         # The experiment's `metrics` list chooses the metric columns (RMSE is
         # always shown: the plots, time-to-best and efficiency are built on it).

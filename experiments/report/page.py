@@ -2,7 +2,8 @@
 viewer's script and styles are inlined: the file stands alone, offline.
 
 experiments/report.py assembles them; tests/experiments/runner_test.cpp and
-tests/python/test_report.py read the result (the number of <img src=' tags,
+tests/python/test_report.py read the result (the number of <img src=' tags:
+three plots, and one more per parameter sweep only when the run has sweeps;
 the table's first two cells, the figcaptions, the "no verdict" wording), so
 change those with the tests.
 """

@@ -51,6 +51,40 @@ def group(rows):
     return out
 
 
+def slug(s):
+    """experiments/experiment.cpp slug(): the image files' names."""
+    return "".join(c.lower() if c.isalnum() else "-" for c in s)
+
+
+def sweep_members(labels, meta):
+    """The parameter sweeps among `labels`: {group: [(label, values), ...]},
+    groups and members in the order of `labels`. meta.json marks each member
+    of a sweep with "sweep": {"group", "values"}; configurations without that
+    key (and every one when there is no meta.json) belong to none. `values`
+    is ordered as the label names the keys ("SPPM radius=0.01, alpha=0.5"):
+    meta.json's JSON objects come with their keys sorted, the label keeps the
+    experiment file's order."""
+    marks = {c.get("label"): c["sweep"] for c in (meta or {}).get("configurations", [])
+             if isinstance(c.get("sweep"), dict) and c["sweep"].get("group")}
+    out = {}
+    for label in labels:
+        mark = marks.get(label)
+        if mark is None:
+            continue
+        values = mark.get("values") or {}
+        if not values:
+            continue  # nothing swept to plot against: an ordinary configuration
+        where = {k: re.search(rf"(?:^|[\s,]){re.escape(str(k))}=", label) for k in values}
+        keys = sorted(values, key=lambda k: (where[k] is None, where[k].start() if where[k] else 0))
+        out.setdefault(mark["group"], []).append((label, {k: values[k] for k in keys}))
+    return out
+
+
+def member_name(label, group):
+    """A member's label without its group's name: what the legend lists under the group."""
+    return label[len(group):].strip() if label.startswith(group + " ") else label
+
+
 def has_crop(labels):
     return any(r["rmse_crop"] is not None for reps in labels.values() for rows in reps.values() for r in rows)
 

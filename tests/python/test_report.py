@@ -21,12 +21,16 @@ import pytest
 
 matplotlib = pytest.importorskip("matplotlib")
 matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
+import matplotlib.container  # noqa: E402
 import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.pyplot  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 REPORT = os.path.join(REPO, "experiments", "report.py")
 sys.path.insert(0, os.path.join(REPO, "experiments", "report"))
 import images  # noqa: E402
+import plots  # noqa: E402
 import runlog  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
@@ -42,27 +46,29 @@ def slug(s):
     return "".join(c.lower() if c.isalnum() else "-" for c in s)
 
 
-def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False):
+def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False, configs=CONFIGS, sweeps=None):
     """structured: meta.json as the nlohmann-json writer has it (mappings
-    where the older writer wrote YAML flow text)."""
+    where the older writer wrote YAML flow text). sweeps: {label: (group,
+    values)} for the configurations that are members of a sweep."""
     os.makedirs(run_dir)
     rng = np.random.default_rng(1)
     with open(os.path.join(run_dir, "log.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow("scene,label,integrator,repeat,seed,time_s,preprocess_s,spp,rmse,relmse,mape,variance,nonfinite,"
                    "rmse_crop,relmse_crop,mape_crop,over_budget_s,final".split(","))
-        for label, integrator in CONFIGS:
+        for n, (label, integrator) in enumerate(configs):
             for repeat in range(2):
                 for i, t in enumerate([0.25, 0.5, 1.0, 2.0]):
                     # alpha falls as t^-0.5 (unbiased); beta flattens at 0.015, within 3x the floor.
                     rmse = (0.1 * t ** -0.5 if integrator == "path" else 0.015 + 0.02 * t ** -1) * (1 + 0.05 * repeat)
+                    rmse *= 1 + 0.1 * n * (label in (sweeps or {}))  # a sweep's members differ
                     w.writerow([SCENE, label, integrator, repeat, 1 + 7919 * repeat, t, 0.01, 8 * 2 ** i, rmse,
                                 rmse ** 2 * 3, 10 * rmse, rmse ** 2, 0, 2 * rmse, 6 * rmse ** 2, 20 * rmse, 0,
                                 int(i == 3)])
     # The images: dim, so that the viewer's exposure has room to brighten them.
     ref = 0.05 + 0.25 * rng.random((H, W, 3))
     images = {"reference": ref}
-    for label, _ in CONFIGS:
+    for label, _ in configs:
         images[slug(label)] = np.clip(ref + 0.1 * rng.standard_normal((H, W, 3)), 0, 1)
     x0, y0, x1, y1 = CROP
     for name, img in images.items():
@@ -82,8 +88,12 @@ def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False):
         "metrics": ["rmse", "relmse", "mape", "variance"], "relmse_epsilon": 0.01,
         "scenes": [{"name": SCENE, "reference": "", "reference_integrator": "path {} 64 spp",
                     "reference_used": "", "reference_rmse_floor": floor, "crop": CROP}],
-        "configurations": [{"label": l, "integrator": i, "resolved_parameters": "{}"} for l, i in CONFIGS],
+        "configurations": [{"label": l, "integrator": i, "resolved_parameters": "{}"} for l, i in configs],
     }
+    for c in meta["configurations"]:
+        if c["label"] in (sweeps or {}):
+            group, values = sweeps[c["label"]]
+            c["sweep"] = {"group": group, "values": values}
     if structured:
         meta["scenes"][0]["reference_integrator"] = {"name": "path", "params": {"mis": "power"}, "budget": "64 spp"}
         meta["scenes"][0]["reference_exr"] = f"{SCENE}__reference.exr"  # not written: the viewer falls back
@@ -96,7 +106,7 @@ def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False):
         w = csv.writer(f)
         w.writerow("scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,"
                    "variance_high,reference_variance".split(","))
-        for label, integrator in CONFIGS:
+        for label, integrator in configs:
             w.writerow([SCENE, label, integrator, 2, 1e-3, 1e-4, 0, 2e-4, 9e-4, 8e-4, 1e-3, 1e-5])
 
 
@@ -207,6 +217,141 @@ def test_keeps_what_the_runner_test_reads(report):
     frame and crop (the reference: image and crop)."""
     _, text = report
     assert text.count("<img src='") == 3 + 2 + 4 * len(CONFIGS)
+
+
+# ---- parameter sweeps ---------------------------------------------------------
+
+# A plain configuration and a sweep of three members, labelled as the runner
+# expands `{label: SPPM, integrator: sppm, sweep: {relative_radius: [...]}}`.
+GROUP = "SPPM"
+RADII = [0.005, 0.01, 0.08]
+SWEEP_CONFIGS = [("PT", "path")] + [(f"{GROUP} relative_radius={r:g}", "sppm") for r in RADII]
+SWEEPS = {l: (GROUP, {"relative_radius": r}) for (l, _), r in zip(SWEEP_CONFIGS[1:], RADII)}
+
+
+def colormap_colours(name):
+    cmap = matplotlib.pyplot.get_cmap(name)
+    return {matplotlib.colors.to_hex(cmap(i)) for i in range(cmap.N)}
+
+
+def test_sweep_members_share_one_colormap():
+    labels = [l for l, _ in SWEEP_CONFIGS] + ["other"]
+    group_of = {l: g for l, (g, _) in SWEEPS.items()}
+    colour = plots.assign_colours(labels, group_of)
+    family = plots.sweep_colormaps([GROUP])[GROUP]
+    members = [colour[l] for l in SWEEPS]
+    assert all(c in colormap_colours(family) for c in members), (family, members)
+    assert len(set(members)) == len(members), "each member its own shade"
+    for plain in ("PT", "other"):
+        assert colour[plain] not in colormap_colours(family) and colour[plain] not in members
+    assert colour["PT"] != colour["other"]
+    # Lighter to darker in the experiment's order.
+    lum = [sum(matplotlib.colors.to_rgb(c)) for c in members]
+    assert lum == sorted(lum, reverse=True), lum
+    # Two sweeps: two families; without sweeps, tab10 in order as before.
+    two = plots.assign_colours(["a x=1", "a x=2", "b y=1", "b y=2"], {"a x=1": "a", "a x=2": "a", "b y=1": "b",
+                                                                      "b y=2": "b"})
+    maps = plots.sweep_colormaps(["a", "b"])
+    assert maps["a"] != maps["b"] and two["b y=1"] in colormap_colours(maps["b"])
+    tab10 = [matplotlib.colors.to_hex(c) for c in matplotlib.pyplot.get_cmap("tab10").colors]
+    assert list(plots.assign_colours(["p", "q", "r"]).values()) == tab10[:3]
+
+
+def test_sweep_members_key_order_follows_the_label():
+    """meta.json's objects have their keys sorted; the label keeps the
+    experiment file's order, and the first key is the plot's x axis."""
+    label = "SPPM relative_radius=0.005, alpha=0.5"
+    meta = {"configurations": [{"label": "PT"}, {"label": label, "sweep": {
+        "group": "SPPM", "values": {"alpha": 0.5, "relative_radius": 0.005}}}]}
+    sweeps = runlog.sweep_members(["PT", label], meta)
+    assert list(sweeps) == ["SPPM"] and list(sweeps["SPPM"][0][1]) == ["relative_radius", "alpha"]
+    assert runlog.member_name(label, "SPPM") == "relative_radius=0.005, alpha=0.5"
+    assert runlog.sweep_members(["PT", label], None) == {}
+
+
+def fake_table(labels, unbiased=()):
+    return {l: dict(no_slope=None if l in unbiased else "biased/consistent", unbiased=l in unbiased,
+                    slope_rmse=-0.5, slope_relmse=-1.0) for l in labels}
+
+
+def test_legend_puts_a_sweep_under_its_group():
+    labels = [l for l, _ in SWEEP_CONFIGS]
+    sweeps = {GROUP: [(l, v) for l, (_, v) in SWEEPS.items()]}
+    colour = plots.assign_colours(labels, {l: GROUP for l in SWEEPS})
+    blocks = plots.legend_blocks(labels, fake_table(labels, ["PT"]), colour, 0.01, 2, ["rmse"], sweeps)
+    heads = [b for b in blocks if b[0].get_gid() == "sweep-group"]
+    assert len(heads) == 1
+    block = heads[0]
+    assert block[0].get_label() == f"{GROUP}: sweep over relative_radius"
+    assert [h.get_color() for h in block[1:]] == [colour[l] for l in SWEEPS]
+    assert [h.get_label().split("  ")[0] for h in block[1:]] == [f"relative_radius={r:g}" for r in RADII]
+    assert blocks[0][0].get_label().startswith("PT  (slope RMSE -0.50)")
+    # Laid out in three columns, the sweep is not split between two of them.
+    handles, rows = plots.pack_legend(blocks, 3)
+    assert len(handles) == 3 * rows
+    at = handles.index(block[0])
+    assert handles[at:at + len(block)] == block and at // rows == (at + len(block) - 1) // rows, (at, rows)
+
+
+def test_sweep_plot_lines_and_axes():
+    """Two keys: one line per value of the last key against the first; a log
+    x axis where the values span over 10x; min-max error bars."""
+    members, labels = [], {}
+    for i, r in enumerate([0.001, 0.01, 0.1]):
+        for j, a in enumerate([0.5, 0.7]):
+            label = f"S r={r:g}, a={a:g}"
+            members.append((label, {"r": r, "a": a}))
+            labels[label] = {rep: [dict(rmse=0.1 + 0.01 * i + 0.02 * j + 0.005 * rep)] for rep in range(2)}
+    fig, ax = matplotlib.pyplot.subplots()
+    colour = plots.assign_colours(list(labels), {l: "S" for l in labels})
+    plots.plot_sweep(ax, "box", "S", members, labels, colour, "Blues")
+    assert ax.get_xscale() == "log" and ax.get_xlabel() == "r"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["a=0.5", "a=0.7"]
+    bars = [c for c in ax.containers if isinstance(c, matplotlib.container.ErrorbarContainer)]
+    assert len(bars) == 2
+    ys = sorted(bars[0].lines[0].get_ydata())
+    assert np.allclose(ys, [0.1025, 0.1125, 0.1225])  # the mean over the two repeats
+    matplotlib.pyplot.close(fig)
+
+
+@pytest.fixture(scope="module")
+def sweep_report(tmp_path_factory):
+    run_dir = str(tmp_path_factory.mktemp("sweep") / "run with sweep")
+    write_run(run_dir, structured=True, configs=SWEEP_CONFIGS, sweeps=SWEEPS)
+    run_report(run_dir)
+    with open(os.path.join(run_dir, "report.html"), encoding="utf-8") as f:
+        return run_dir, f.read()
+
+
+def test_report_plots_and_names_a_sweep(sweep_report):
+    run_dir, text = sweep_report
+    plot = os.path.join(run_dir, f"{SCENE}__sweep-sppm.png")
+    assert os.path.exists(plot) and os.path.exists(plot[:-4] + ".svg")
+    assert "<h3>Parameter sweeps</h3>" in text and f"Sweep <b>{GROUP}</b>: 3 configurations" in text
+    assert "against relative_radius (0.005, 0.01, 0.08)" in text
+    # One more plot than a run without sweeps; still one grid row per configuration.
+    assert text.count("<img src='") == 3 + 1 + 2 + 4 * len(SWEEP_CONFIGS)
+    rows = re.findall(r"<div class='rowlabel'>.*?<b>(.*?)</b>", text)
+    assert rows == ["reference"] + [l for l, _ in SWEEP_CONFIGS]
+    # The legends of the drawn figures (SVG text, svg.fonttype none) name the
+    # group, list each member by its values after it, and draw the members
+    # in their colormap's shades and PT in a colour of its own.
+    with open(os.path.join(run_dir, f"{SCENE}__convergence.svg"), encoding="utf-8") as f:
+        svg = f.read()
+    head = svg.index(f"{GROUP}: sweep over relative_radius")
+    assert all(svg.index(f"relative_radius={r:g}  (", head) > head for r in RADII)
+    strokes = set(re.findall(r"stroke: (#[0-9a-f]{6})", svg))
+    family = colormap_colours(plots.sweep_colormaps([GROUP])[GROUP])
+    assert len(strokes & family) >= 3, strokes
+    swatches = dict(re.findall(r"background-color:(#[0-9a-f]{6})'></span><b>(.*?)</b>", text))
+    by_label = {v: k for k, v in swatches.items()}
+    assert all(by_label[l] in family for l in SWEEPS) and by_label["PT"] not in family
+
+
+def test_runs_without_sweeps_add_no_sweep_plot(report):
+    path, text = report
+    assert "Parameter sweeps" not in text
+    assert not [f for f in os.listdir(os.path.dirname(path)) if "__sweep-" in f]
 
 
 def test_reference_exr_is_found_in_the_cache(tmp_path):
