@@ -38,7 +38,7 @@ done
 echo "fuzz: building in $BUILD (clang, -j$JOBS)"
 mkdir -p "$BUILD"
 CC=clang CXX=clang++ cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DLIGHTBENCH_FUZZ=ON -DLIGHTBENCH_TESTS=OFF >"$BUILD/fuzz-configure.log" 2>&1 ||
+  -DLIGHTBENCH_FUZZ=ON -DLIGHTBENCH_TESTS=OFF -DLIGHTBENCH_PYTHON=OFF >"$BUILD/fuzz-configure.log" 2>&1 ||
   { cat "$BUILD/fuzz-configure.log" >&2; exit 2; }
 cmake --build "$BUILD" -j"$JOBS" --target "${TARGETS[@]}" fuzz_exr_seeds >"$BUILD/fuzz-build.log" 2>&1 ||
   { tail -40 "$BUILD/fuzz-build.log" >&2; exit 2; }
