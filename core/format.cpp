@@ -8,11 +8,13 @@ std::string formatSeconds(double s) {
   char buf[32];
   if (!std::isfinite(s)) return "?";
   if (s < 1e-3) return "0 s";
-  if (s < 1) std::snprintf(buf, sizeof buf, "%.0f ms", s * 1e3);
-  else if (s < 10) std::snprintf(buf, sizeof buf, "%.2f s", s);
-  else if (s < 120) std::snprintf(buf, sizeof buf, "%.1f s", s);
-  else if (s < 7200) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, int(s) / 60 % 60);
+  // Thresholds just below each unit's rounding edge: 0.9996 s is "1.00 s", not "1000 ms".
+  if (s < 0.9995) std::snprintf(buf, sizeof buf, "%.0f ms", s * 1e3);
+  else if (s < 9.995) std::snprintf(buf, sizeof buf, "%.2f s", s);
+  else if (s < 119.95) std::snprintf(buf, sizeof buf, "%.1f s", s);
+  else if (s < 7200) std::snprintf(buf, sizeof buf, "%lldm%02llds", (long long)s / 60, (long long)s % 60);
+  else if (s < 1e15) std::snprintf(buf, sizeof buf, "%lldh%02lldm", (long long)s / 3600, (long long)s / 60 % 60);
+  else return "forever";
   return buf;
 }
 

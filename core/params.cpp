@@ -151,7 +151,7 @@ std::vector<KeyDoc> describeKeys(const std::function<void(Params&)>& reader) {
 }
 
 float Params::getFloat(const std::string& key, float fallback, const KeySpec& spec) {
-  document(key, "number", number(fallback), spec.range.text(), spec.meaning);
+  document(key, "number", number(fallback), spec.allowed.empty() ? spec.range.text() : spec.allowed, spec.meaning);
   YAML::Node n = lookup(key);
   float v = n && !n.IsNull() ? toFloat(n, key) : fallback;
   checkRange(key, v, spec);
@@ -163,7 +163,8 @@ float Params::requireFloat(const std::string& key) {
 }
 
 int Params::getInt(const std::string& key, int fallback, const KeySpec& spec) {
-  document(key, "integer", std::to_string(fallback), spec.range.text(), spec.meaning);
+  document(key, "integer", std::to_string(fallback), spec.allowed.empty() ? spec.range.text() : spec.allowed,
+           spec.meaning);
   YAML::Node n = lookup(key);
   int v = fallback;
   if (n && !n.IsNull()) {

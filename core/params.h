@@ -41,9 +41,12 @@ struct Range {
 struct KeySpec {
   std::string meaning;
   Range range = {};
+  // The allowed values as listed, when the range alone does not say them
+  // (photon mapping's k: 0 or >= 2); the reader checks the rest itself.
+  std::string allowed;
   KeySpec() = default;
   KeySpec(const char* m) : meaning(m) {}
-  KeySpec(std::string m, Range r = {}) : meaning(std::move(m)), range(r) {}
+  KeySpec(std::string m, Range r = {}, std::string a = "") : meaning(std::move(m)), range(r), allowed(std::move(a)) {}
 };
 
 // One key as read: name, type, default, allowed values, meaning.

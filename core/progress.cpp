@@ -10,9 +10,8 @@ Progress::Progress(std::string what, double total, bool enabled)
     : what_(std::move(what)), total_(total), enabled_(enabled && total > 0), tty_(isatty(STDERR_FILENO)),
       start_(std::chrono::steady_clock::now()) {}
 
-Progress::~Progress() {
-  if (!finished_) finish();
-}
+// Not finish(): while unwinding from an exception a "100 %" line would be false.
+Progress::~Progress() = default;
 
 void Progress::advance(double amount) {
   if (!enabled_) return;

@@ -2,7 +2,7 @@
 // A progress line for work that is not rendering passes: photon tracing, the
 // irradiance cache's prepass, reference chunks. "photon tracing [ 42%] ETA 3.1 s",
 // redrawn in place on a terminal (at most 4 times a second), a line every 5 s
-// otherwise, and always closed by a 100 % line. Thread-safe: workers call
+// otherwise, closed by finish()'s 100 % line. Thread-safe: workers call
 // advance() from any thread.
 #include <atomic>
 #include <chrono>
@@ -15,7 +15,7 @@ class Progress {
  public:
   // Disabled (prints nothing) when !enabled: callers need no branches.
   Progress(std::string what, double total, bool enabled);
-  ~Progress();  // prints the 100 % line if finish() was not called
+  ~Progress();  // prints nothing: the 100 % line is finish()'s
   void advance(double amount);
   void finish();
 

@@ -1,5 +1,6 @@
 #include "experiments/meta.h"
 #include "experiments/reference.h"
+#include "experiments/json_values.h"
 #include <OpenEXR/OpenEXRConfig.h>
 #include <OpenMesh/Core/System/config.h>
 #include <embree3/rtcore_config.h>
@@ -19,32 +20,6 @@
 namespace lb {
 
 namespace {
-
-// A YAML value as JSON: mappings, lists, and scalars as the number or bool
-// they spell (YAML 1.2's core schema), else as strings. Parameters in meta.json
-// are then values a notebook can use, not YAML text inside a JSON string.
-nlohmann::json yamlToJson(const YAML::Node& n) {
-  if (!n || n.IsNull()) return nullptr;
-  if (n.IsSequence()) {
-    nlohmann::json a = nlohmann::json::array();
-    for (const auto& item : n) a.push_back(yamlToJson(item));
-    return a;
-  }
-  if (n.IsMap()) {
-    nlohmann::json o = nlohmann::json::object();
-    for (auto it = n.begin(); it != n.end(); ++it) o[it->first.Scalar()] = yamlToJson(it->second);
-    return o;
-  }
-  const std::string& text = n.Scalar();
-  if (n.Tag() == "!") return text;  // quoted in the YAML: a string
-  if (text == "true" || text == "false") return text == "true";
-  char* end = nullptr;
-  long long i = std::strtoll(text.c_str(), &end, 10);
-  if (!text.empty() && *end == '\0') return i;
-  double d = std::strtod(text.c_str(), &end);
-  if (!text.empty() && *end == '\0' && std::isfinite(d)) return d;
-  return text;
-}
 
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
@@ -123,7 +98,8 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
                                           std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
                                           std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
   j["experiment_source"] = yamlToJson(e.source);
-  return j.dump(2) + "\n";
+  // Invalid UTF-8 (a label or path in another encoding) is replaced, not a throw without file or key.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace

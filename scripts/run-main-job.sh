@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Quick start, command 1: install what is missing, build (Release), and run the
-# main job — the default experiment, experiments/quickstart.yaml (about two
-# minutes on 2 cores). It ends by printing where the plot and report are.
+# main job — the default experiment, experiments/quickstart.yaml (about four
+# minutes on 2 cores, its reference included) — after installing the Python
+# package (scripts/install-python.sh). It ends by printing where the plot and
+# report are.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh

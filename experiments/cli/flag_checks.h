@@ -23,7 +23,7 @@ CLI::Validator pixelCoordinates();
 // preview only, said so; never an EXR under a .png name). Other extensions are
 // refused: they would be overwritten by, or mistaken for, one of these.
 CLI::Validator outputFileName();
-// "WxH": two whole numbers from 1 to 16384, e.g. 640x480.
+// "WxH": two whole numbers from 1 to 8192 (what readExr reads), e.g. 640x480.
 CLI::Validator resolution();
 bool parseResolution(const std::string& text, int& width, int& height);
 // "X0,Y0,X1,Y1": four whole numbers with X0 < X1 and Y0 < Y1 (the film's

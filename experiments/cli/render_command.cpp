@@ -211,8 +211,14 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["lightbench"] = versionString();
   resolved["scene_file"] = args.scene;
   resolved["scene"] = job.sf.description;
+  // What the command line changed: the scene above is the file as written.
+  const Camera& camera = job.sf.scene->camera;
+  if (!args.resolution.empty()) resolved["resolution"] = args.resolution;
+  if (!args.crop.empty()) resolved["crop"] = args.crop;
+  if (args.worldScale > 0) resolved["world_scale"] = args.worldScale;
+  resolved["image_size"] = std::to_string(camera.width()) + "x" + std::to_string(camera.height());
   if (job.sf.importWarnings) resolved["import_warnings"] = job.sf.importWarnings;
-  YAML::Node integ = job.params.resolved();
+  YAML::Node integ = YAML::Clone(job.params.resolved());  // a clone: adding `name` must not write into Params
   integ["name"] = job.choice.name;
   resolved["integrator"] = integ;
   resolved["sampler"]["type"] = job.sf.sampler.type;
@@ -237,6 +243,8 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
                     {"lightbench/seconds", std::to_string(rep.seconds)},
                     {"lightbench/seed", std::to_string(args.seed)},
                     {"lightbench/non_finite_samples", std::to_string(rep.nonFinite)}};
+  if (!args.resolution.empty()) out.attributes["lightbench/resolution"] = args.resolution;
+  if (!args.crop.empty()) out.attributes["lightbench/crop"] = args.crop;
   return out;
 }
 
@@ -247,6 +255,8 @@ std::unique_ptr<tbb::global_control> limitThreads(int threads) {
 
 int render(const RenderArgs& args) {
   const bool replay = !args.replayPixel.empty() || args.replaySample >= 0;
+  if (!args.aovs.empty() && std::filesystem::path(args.output).extension() == ".png")
+    throw flagError("--aov", "AOVs are layers of the EXR; -o " + args.output + " writes the PNG preview only");
   if (!args.replayPixel.empty() && args.replaySample < 0) throw flagError("--sample", "--pixel needs --sample I");
   if (args.replayPixel.empty() && args.replaySample >= 0) throw flagError("--pixel", "--sample needs --pixel X,Y");
   if (!args.integrator.empty()) checkIntegratorName(args.integrator);

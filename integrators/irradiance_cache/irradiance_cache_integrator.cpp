@@ -80,6 +80,7 @@ void IrradianceCacheIntegrator::preprocess(const Scene& scene, const Sampler& pr
                       progress_);
     global_ = buildPhotonMap(scene, seed, settings_.photonMaps.globalPhotons, photonSegments, false, &progress);
     caustic_ = buildPhotonMap(scene, seed + 1, settings_.photonMaps.causticPhotons, photonSegments, true, &progress);
+    progress.finish();
   }
   // Lazy creation, coarse to fine (Tabellion & Lamorlette 2004): sparse pixels
   // first, so the records they create cover most of the image before the

@@ -16,10 +16,11 @@ PhotonMapSettings PhotonMapSettings::read(Params& p) {
   int caustic = p.getInt("caustic_photons", 200000,
                          {"photon paths traced for the caustic map (light via specular chains)", Range::atLeast(0)});
   s.globalPhotons = size_t(global), s.causticPhotons = size_t(caustic);
-  int k = p.getInt("k", 30, {"photons per density estimate: 0 (all within max_radius) or >= 2", Range::atLeast(0)});
+  int k = p.getInt("k", 30,
+                   {"photons per density estimate; 0: every photon within max_radius", Range::atLeast(0), "0, or >= 2"});
   // The k-th photon only sets the radius (photon_map.h): k = 1 estimates nothing.
   // k = 0: no k-th photon, the disc is always max_radius (fixed-radius estimate).
-  if (k < 0 || k == 1)
+  if (k == 1)
     p.fail("k", "must be 0 (every photon within max_radius) or at least 2 (the k-th nearest photon only sets the radius)");
   s.query.k = k == 0 ? std::numeric_limits<size_t>::max() : size_t(k);
   s.maxRadius = p.getFloat("max_radius", 0,

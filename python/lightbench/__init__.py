@@ -16,8 +16,9 @@ file:line: key message the program prints.
 import json
 import os
 
+import math
+
 import numpy as np
-import yaml
 
 from . import _core
 from ._core import ConfigError  # noqa: F401  (re-exported)
@@ -57,9 +58,10 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
     """
     if spp is not None and seconds is not None:
         raise ValueError("give spp or seconds, not both")
-    for name, value in (("spp", spp), ("seconds", seconds)):
-        if value is not None and not value > 0:
-            raise ValueError(f"{name} must be positive, got {value!r}")
+    if spp is not None and (int(spp) != spp or spp < 1):
+        raise ValueError(f"spp must be a whole number >= 1, got {spp!r}")
+    if seconds is not None and not (math.isfinite(seconds) and seconds > 0):
+        raise ValueError(f"seconds must be positive and finite, got {seconds!r}")
     # Parameters travel as `--set key=value` does, each value as JSON (which
     # YAML reads): one code path for the program and the package.
     overrides = [f"{k}={json.dumps(v)}" for k, v in (params or {}).items()]
@@ -69,7 +71,7 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
                                                    "%dx%d" % tuple(resolution) if resolution else "",
                                                    ",".join(str(int(v)) for v in crop) if crop else "")
     image = array.view(RenderedImage)
-    image.metadata = dict(yaml.safe_load(resolved), **report)
+    image.metadata = dict(json.loads(resolved), **report)
     image.layers = layers
     return image
 

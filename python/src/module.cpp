@@ -12,6 +12,7 @@
 #include "core/image.h"
 #include "experiments/cli/commands.h"
 #include "experiments/experiment.h"
+#include "experiments/json_values.h"
 #include "experiments/metrics.h"
 #include "experiments/runner.h"
 #include "integrators/registry.h"
@@ -69,7 +70,7 @@ PYBIND11_MODULE(_core, m) {
         args.scene = scene, args.integrator = integrator, args.overrides = overrides, args.aovs = aovs;
         for (const auto& a : aovs)
           if (std::find(aovNames().begin(), aovNames().end(), a) == aovNames().end())
-            throw py::value_error("unknown AOV '" + a + "' (have: albedo, normal, depth, variance, spp)");
+            throw py::value_error("unknown AOV '" + a + "'");
         args.spp = spp, args.seconds = seconds, args.seed = seed, args.threads = threads, args.quiet = !progress;
         RenderedImage r;
         {
@@ -78,7 +79,9 @@ PYBIND11_MODULE(_core, m) {
         }
         py::dict layers;
         for (const ExrLayer& l : r.layers) layers[py::str(l.name)] = toArray(l.image);
-        return py::make_tuple(toArray(r.image), r.resolvedYaml, reportDict(r.report), layers);
+        // The resolved configuration as JSON (json.loads in Python: no YAML module needed).
+        std::string resolved = yamlToJson(YAML::Load(r.resolvedYaml)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        return py::make_tuple(toArray(r.image), resolved, reportDict(r.report), layers);
       },
       py::arg("scene"), py::arg("integrator"), py::arg("overrides"), py::arg("spp"), py::arg("seconds"),
       py::arg("seed"), py::arg("threads"), py::arg("progress"), py::arg("aovs"), py::arg("resolution"),
@@ -98,7 +101,10 @@ PYBIND11_MODULE(_core, m) {
         if (x.width != r.width || x.height != r.height) throw py::value_error("image and reference differ in size");
         Crop c;
         if (crop.size() == 4) c = {crop[0], crop[1], crop[2], crop[3]};
-        else if (!crop.empty()) throw py::value_error("crop: expected [x0, y0, x1, y1]");
+        else if (!crop.empty()) throw py::value_error("crop: expected (x0, y0, x1, y1)");
+        // computeMetrics reads the crop's pixels unchecked.
+        if (!crop.empty() && !(0 <= c.x0 && c.x0 < c.x1 && c.x1 <= x.width && 0 <= c.y0 && c.y0 < c.y1 && c.y1 <= x.height))
+          throw py::value_error("crop: need 0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height");
         MetricSettings settings;
         settings.relEpsilon = epsilon;
         ErrorMetrics e = computeMetrics(x, r, settings, c);

@@ -14,6 +14,10 @@ TEST(Format, SecondsAsPeopleReadThem) {
   EXPECT_EQ(formatSeconds(125), "2m05s");
   EXPECT_EQ(formatSeconds(3725), "62m05s");
   EXPECT_EQ(formatSeconds(7260), "2h01m");
+  EXPECT_EQ(formatSeconds(0.9996), "1.00 s");  // not "1000 ms"
+  EXPECT_EQ(formatSeconds(9.996), "10.0 s");
+  EXPECT_EQ(formatSeconds(1e12), "277777777h46m");  // past an int's range
+  EXPECT_EQ(formatSeconds(1e300), "forever");
 }
 
 TEST(Format, CountsWithSiPrefixesAndThreeDigits) {

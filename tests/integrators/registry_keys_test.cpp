@@ -81,7 +81,12 @@ TEST(IntegratorKeys, EveryListedRangeIsEnforcedAtItsEnds) {
       };
       double lo = 0, hi = 0;
       char open = 0, close = 0;
-      if (std::sscanf(k.allowed.c_str(), "%c%lf, %lf%c", &open, &lo, &hi, &close) == 4) {
+      if (std::sscanf(k.allowed.c_str(), "%lf, or >= %lf", &lo, &hi) == 2) {  // a value, or a half-line (k: 0, or >= 2)
+        check(lo, true);
+        check(lo - step, false);
+        check(hi, true);
+        check(hi - step, lo == hi - step);
+      } else if (std::sscanf(k.allowed.c_str(), "%c%lf, %lf%c", &open, &lo, &hi, &close) == 4) {
         check(open == '(' ? lo : lo - step, false);
         check(close == ')' ? hi : hi + step, false);
         if (open == '[') check(lo, true);

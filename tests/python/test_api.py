@@ -2,13 +2,13 @@
 definitions: a render equals `lightbench render`'s EXR, a run folder reads back
 into the log's rows, and the metric functions equal numpy written from the
 formulas in experiments/metrics.h."""
+import csv
 import json
 import subprocess
 
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
 
 import lightbench
 
@@ -42,8 +42,9 @@ def test_bad_parameters_raise_config_error_naming_the_valid_keys(small_scene):
         lightbench.render(small_scene, integrator="sppm", params={"alpah": 0.5}, spp=1)
     with pytest.raises(lightbench.ConfigError, match=r"must be in \(0, 1\)"):
         lightbench.render(small_scene, integrator="sppm", params={"alpha": 1.5}, spp=1)
-    with pytest.raises(ValueError):
-        lightbench.render(small_scene, spp=0)
+    for bad in ({"spp": 0}, {"spp": 2.5}, {"seconds": float("inf")}, {"seconds": -1}, {"spp": 1, "seconds": 1}):
+        with pytest.raises(ValueError):
+            lightbench.render(small_scene, **bad)
 
 
 def test_metrics_equal_their_definitions():
@@ -60,6 +61,9 @@ def test_metrics_equal_their_definitions():
     assert lightbench.rmse(img, ref, crop=(x0, y0, x1, y1)) == pytest.approx(np.sqrt(np.mean(dc * dc)), rel=1e-6)
     with pytest.raises(ValueError):
         lightbench.rmse(img, ref[:, :5])
+    for crop in ((0, 0, 100, 100), (5, 5, 5, 8), (-1, 0, 3, 3)):  # outside, empty, negative
+        with pytest.raises(ValueError):
+            lightbench.rmse(img, ref, crop=crop)
 
 
 def test_exr_round_trip(tmp_path):
@@ -69,6 +73,18 @@ def test_exr_round_trip(tmp_path):
     assert np.array_equal(lightbench.read_exr(path), a)
 
 
+def typed(key):
+    """A listed default as the value it spells."""
+    text = key["default"]
+    if key["type"] == "bool":
+        return text == "true"
+    if key["type"] == "integer":
+        return int(text)
+    if key["type"] == "number":
+        return float(text)
+    return text
+
+
 def test_integrator_keys_are_what_the_reader_accepts(small_scene):
     keys = {k["key"]: k for k in lightbench.integrator_keys("sppm")}
     assert set(keys) == {"photons_per_pass", "alpha", "initial_radius", "relative_radius", "max_depth", "lookup"}
@@ -76,7 +92,7 @@ def test_integrator_keys_are_what_the_reader_accepts(small_scene):
     # Every listed key is accepted with its listed default (an unlisted key
     # is not: the test above).
     for name in lightbench.integrators():
-        params = {k["key"]: yaml.safe_load(k["default"]) for k in lightbench.integrator_keys(name)}
+        params = {k["key"]: typed(k) for k in lightbench.integrator_keys(name)}
         if name == "irradiance_cache":  # its photon-map keys are read only with base: photon
             params["base"] = "photon"
         params.update(max_depth=3, global_photons=1000, caustic_photons=1000, photons_per_pass=1000)
@@ -106,9 +122,11 @@ def test_load_run_reads_the_log_and_images(tmp_path, small_scene):
     exp = make_experiment(tmp_path, small_scene)
     run_dir = lightbench.run_experiment(exp, results=str(tmp_path / "results dir"), report=False)
     run = lightbench.load_run(run_dir)
-    raw = pd.read_csv(f"{run_dir}/log.csv")
-    assert len(run.log) == len(raw) > 0
-    assert list(run.log.columns) == list(raw.columns)
+    with open(f"{run_dir}/log.csv", newline="") as f:  # an independent reader of the same file
+        raw = list(csv.DictReader(f))
+    assert isinstance(run.log, pd.DataFrame) and len(run.log) == len(raw) == 2 * 2 * 2  # configurations x repeats x snapshots
+    assert list(run.log.columns) == list(raw[0].keys())
+    assert list(run.log["rmse"]) == pytest.approx([float(r["rmse"]) for r in raw], rel=1e-12)
     assert run.log["final"].dtype == bool and run.final()["repeat"].nunique() == 2
     assert run.meta["configurations"][0]["resolved_parameters"]["mis"] == "power"  # JSON values, not YAML text
     scene = run.meta["scenes"][0]["name"]
