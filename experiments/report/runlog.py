@@ -52,8 +52,10 @@ def group(rows):
 
 
 def slug(s):
-    """experiments/experiment.cpp slug(): the image files' names."""
-    return "".join(c.lower() if c.isalnum() else "-" for c in s)
+    """experiments/experiment.cpp slug(): the image files' names. Byte by
+    byte over UTF-8, ASCII letters and digits kept, as the C++ does (a
+    non-ASCII letter is one '-' per byte there)."""
+    return "".join(chr(b).lower() if chr(b).isascii() and chr(b).isalnum() else "-" for b in s.encode("utf-8"))
 
 
 def sweep_members(labels, meta):

@@ -76,10 +76,13 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
     return image
 
 
-def run_experiment(path, quick=False, resume=False, jobs=1, results="results", report=True):
+def run_experiment(path, quick=False, resume=False, jobs=1, results="results", report=True, python=None):
     """Runs an experiment file as `lightbench run` does; returns the run folder
-    (results/<name>/<run-id>), ready for load_run()."""
-    return _core.run_experiment(os.fspath(path), bool(quick), bool(resume), int(jobs), os.fspath(results), bool(report))
+    (results/<name>/<run-id>), ready for load_run(). python: the report's
+    interpreter (as `lightbench run --python`; default $LIGHTBENCH_PYTHON,
+    else /usr/bin/python3, which has matplotlib)."""
+    return _core.run_experiment(os.fspath(path), bool(quick), bool(resume), int(jobs), os.fspath(results), bool(report),
+                                os.fspath(python) if python else "")
 
 
 def read_exr(path):

@@ -114,16 +114,18 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "run_experiment",
-      [](const std::string& path, bool quick, bool resume, int jobs, const std::string& results, bool report) {
+      [](const std::string& path, bool quick, bool resume, int jobs, const std::string& results, bool report,
+         const std::string& python) {
         ExperimentOptions eo;
         eo.quick = quick;
         Experiment e = loadExperiment(path, eo);
         RunnerOptions ro;
-        ro.resultsRoot = results, ro.resume = resume, ro.jobs = jobs, ro.report = report;
+        ro.resultsRoot = results, ro.resume = resume, ro.jobs = jobs, ro.report = report, ro.python = python;
         py::gil_scoped_release unlocked;
         return runExperiment(e, ro);
       },
-      py::arg("path"), py::arg("quick"), py::arg("resume"), py::arg("jobs"), py::arg("results"), py::arg("report"));
+      py::arg("path"), py::arg("quick"), py::arg("resume"), py::arg("jobs"), py::arg("results"), py::arg("report"),
+      py::arg("python"));
 
   m.def("slug", &slug, py::arg("label"));
   m.def("integrator_names", [] {
