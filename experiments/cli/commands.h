@@ -2,6 +2,7 @@
 // Sub-commands of the `lightbench` program. Each returns the process exit code:
 // 0 success, 1 runtime failure, 2 bad input (a ConfigError, with file:line:key).
 #include <CLI/CLI.hpp>
+#include <yaml-cpp/yaml.h>
 #include <functional>
 #include <string>
 #include <vector>
@@ -44,7 +45,8 @@ int runRender(const RenderArgs& args);
 // (the Python package's render() returns it as an array and a dict).
 struct RenderedImage {
   Image image;
-  std::string resolvedYaml;  // the resolved configuration (<name>.config.yaml)
+  YAML::Node resolved;       // the resolved configuration ...
+  std::string resolvedYaml;  // ... as <name>.config.yaml holds it
   RenderReport report;
   std::vector<NonFiniteSample> firstNonFinite;  // to replay with --pixel/--sample
   std::vector<ExrLayer> layers;                 // the AOVs asked for, then the integrator's layers

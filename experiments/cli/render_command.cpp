@@ -231,7 +231,7 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["non_finite_samples"] = rep.nonFinite;
   YAML::Emitter emitter;
   emitter << resolved;
-  RenderedImage out{film.image(), std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}};
+  RenderedImage out{film.image(), resolved, std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}};
   out.layers = aovLayers(args.aovs, *job.sf.scene, film, args.seed);
   for (ExrLayer& layer : job.integrator->extraLayers()) out.layers.push_back(std::move(layer));
   // The EXR carries what made it: a file copied away from its .config.yaml still says.

@@ -14,11 +14,12 @@ int runExperimentCommand(const RunArgs& args) {
     ExperimentOptions eo;
     eo.quick = args.quick;
     // `lightbench run scene.yaml`: say which command was meant.
-    if (std::filesystem::path(args.experiment).extension() == ".xml")
-      throw ConfigError(args.experiment, 0, "", "this is a scene, not an experiment: render it with 'lightbench render " +
-                                                    args.experiment + "'");
-    YAML::Node root = loadYamlFile(args.experiment);
-    if (root.IsMap() && !root["configurations"] && (root["camera"] || root["shapes"]))
+    bool scene = std::filesystem::path(args.experiment).extension() == ".xml";
+    if (!scene) {
+      YAML::Node root = loadYamlFile(args.experiment);
+      scene = root.IsMap() && !root["configurations"] && (root["camera"] || root["shapes"]);
+    }
+    if (scene)
       throw ConfigError(args.experiment, 0, "", "this is a scene, not an experiment: render it with 'lightbench render " +
                                                     args.experiment + "'");
     Experiment e = loadExperiment(args.experiment, eo);

@@ -80,7 +80,7 @@ PYBIND11_MODULE(_core, m) {
         py::dict layers;
         for (const ExrLayer& l : r.layers) layers[py::str(l.name)] = toArray(l.image);
         // The resolved configuration as JSON (json.loads in Python: no YAML module needed).
-        std::string resolved = yamlToJson(YAML::Load(r.resolvedYaml)).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+        std::string resolved = yamlToJson(r.resolved).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
         return py::make_tuple(toArray(r.image), resolved, reportDict(r.report), layers);
       },
       py::arg("scene"), py::arg("integrator"), py::arg("overrides"), py::arg("spp"), py::arg("seconds"),
