@@ -50,6 +50,20 @@ class Pcg32 {
     return {a, next1D()};
   }
   uint32_t uniformInt(uint32_t bound) { return uint32_t((uint64_t(nextU32()) * bound) >> 32); }
+  // Skips `delta` draws in O(log delta) (Brown 1994, "Random number generation
+  // with arbitrary strides", as in O'Neill's pcg32_advance).
+  void advance(uint64_t delta) {
+    uint64_t curMult = 0x5851f42d4c957f2dULL, curPlus = inc_, accMult = 1, accPlus = 0;
+    for (; delta > 0; delta >>= 1) {
+      if (delta & 1) {
+        accMult *= curMult;
+        accPlus = accPlus * curMult + curPlus;
+      }
+      curPlus = (curMult + 1) * curPlus;
+      curMult *= curMult;
+    }
+    state_ = accMult * state_ + accPlus;
+  }
 
  private:
   uint64_t state_, inc_;

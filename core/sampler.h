@@ -1,7 +1,18 @@
 #pragma once
 // Per-sample random number streams. A sampler is started for (pixel, sample
-// index) and hands out dimensions in order; its state depends only on the seed,
-// the pixel and the sample index, so images do not depend on thread scheduling.
+// index) and hands out dimensions: get1D() uses one, get2D() two. Every value
+// is a function of (seed, pixel, sample index, dimension) only, so images do
+// not depend on thread scheduling, and setDimension() lets an integrator give
+// each path vertex a fixed range of dimensions (integrators/path/path_tracer.h
+// documents its layout) so a low-discrepancy sampler's strata line up from one
+// path to the next.
+//
+// The samplers (sampler: {type: ...} in a scene, a configuration, or --sampler):
+//   independent  PCG32 per sample                           (core/sampler.h)
+//   stratified   jittered strata in blocks of strata² samples (core/sampler.h)
+//   sobol        Owen-scrambled Sobol', padded per 1-D/2-D request (core/samplers/sobol.h)
+//   zsobol       the same points in Morton order over the image (core/samplers/sobol.h)
+//   halton       Halton with random digit permutations     (core/samplers/halton.h)
 #include <memory>
 #include <string>
 #include "core/rng.h"
@@ -11,32 +22,55 @@ namespace lb {
 class Sampler {
  public:
   virtual ~Sampler() = default;
+  // Starts (pixel, sample index) at dimension 0.
   virtual void start(uint64_t pixelIndex, uint64_t sampleIndex) = 0;
   virtual float get1D() = 0;
   virtual Vec2 get2D() = 0;
+  // The dimension the next get1D()/get2D() uses, and a jump to another one.
+  uint32_t dimension() const { return dimension_; }
+  virtual void setDimension(uint32_t d) { dimension_ = d; }
   virtual std::unique_ptr<Sampler> clone() const = 0;
   // The run's seed: integrators derive other random streams (photons) from it.
   virtual uint64_t seed() const = 0;
+
+ protected:
+  uint32_t dimension_ = 0;
 };
 
+// One PCG32 stream per (pixel, sample); dimension d is the stream's d-th draw.
 class IndependentSampler final : public Sampler {
  public:
   explicit IndependentSampler(uint64_t seed) : seed_(seed) {}
-  void start(uint64_t pixel, uint64_t sample) override { rng_.seed(hashValues(seed_, pixel, sample), mixBits(seed_)); }
-  float get1D() override { return rng_.next1D(); }
-  Vec2 get2D() override { return rng_.next2D(); }
+  void start(uint64_t pixel, uint64_t sample) override {
+    streamState_ = hashValues(seed_, pixel, sample);
+    rng_.seed(streamState_, mixBits(seed_));
+    dimension_ = 0;
+  }
+  float get1D() override {
+    ++dimension_;
+    return rng_.next1D();
+  }
+  Vec2 get2D() override {
+    dimension_ += 2;
+    return rng_.next2D();
+  }
+  void setDimension(uint32_t d) override {
+    if (d < dimension_) rng_.seed(streamState_, mixBits(seed_)), dimension_ = 0;
+    rng_.advance(d - dimension_);
+    dimension_ = d;
+  }
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<IndependentSampler>(*this); }
   uint64_t seed() const override { return seed_; }
 
  private:
-  uint64_t seed_;
+  uint64_t seed_, streamState_ = 0;
   Pcg32 rng_;
 };
 
 // Jittered stratification in blocks: sample indices are grouped in blocks of
-// n² samples; within a block each 2-D dimension visits every one of the n×n
+// n² samples; within a block each 2-D request visits every one of the n×n
 // strata once, in an order randomly permuted per (pixel, block, dimension), and
-// 1-D dimensions visit n² strata likewise. Each sample is marginally uniform, so
+// 1-D requests visit n² strata likewise. Each sample is marginally uniform, so
 // a budget that stops mid-block stays unbiased; full blocks are stratified.
 class StratifiedSampler final : public Sampler {
  public:
@@ -48,21 +82,24 @@ class StratifiedSampler final : public Sampler {
   uint64_t seed() const override { return seed_; }
 
  private:
-  uint32_t stratum(uint32_t count);
-  uint64_t seed_, pixel_ = 0, block_ = 0;
-  uint32_t indexInBlock_ = 0, dimension_ = 0;
+  uint64_t seed_, pixel_ = 0, sample_ = 0, block_ = 0;
+  uint32_t indexInBlock_ = 0;
   int n_;
-  Pcg32 rng_;
 };
 
 struct SamplerSettings {
-  std::string type = "independent";  // independent | stratified
+  std::string type = "independent";  // independent | stratified | sobol | zsobol | halton
   int strata = 4;                    // stratified: strata per axis (blocks of strata² samples)
+  int spp = 64;                      // zsobol: samples per pixel of one Morton-ordered pattern (a power of 2)
 };
+const char* const SamplerTypes[] = {"independent", "stratified", "sobol", "zsobol", "halton"};
 
-inline std::unique_ptr<Sampler> makeSampler(const SamplerSettings& s, uint64_t seed) {
-  if (s.type == "stratified") return std::make_unique<StratifiedSampler>(seed, s.strata);
-  return std::make_unique<IndependentSampler>(seed);
-}
+// `width` × `height` is the image the pixel indices y·width + x refer to
+// (zsobol orders pixels along a Morton curve over it).
+std::unique_ptr<Sampler> makeSampler(const SamplerSettings& s, uint64_t seed, int width = 1, int height = 1);
+
+// Kensler 2013, "Correlated Multi-Jittered Sampling": a hash-based random
+// permutation of [0, n) evaluated at index i without storing the permutation.
+uint32_t permuteIndex(uint32_t i, uint32_t n, uint32_t key);
 
 }  // namespace lb

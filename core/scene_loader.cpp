@@ -20,6 +20,17 @@
 
 namespace lb {
 
+SamplerSettings readSamplerSettings(Params& p) {
+  SamplerSettings s;
+  s.type = p.getChoice("type", "independent", std::vector<std::string>(std::begin(SamplerTypes), std::end(SamplerTypes)),
+                       "the random or low-discrepancy numbers each sample draws (core/sampler.h)");
+  s.strata = p.getInt("strata", 4, {"stratified: strata per axis (blocks of strata² samples)", Range::between(1, 64)});
+  s.spp = p.getInt("spp", 64, {"zsobol: samples per pixel of one Morton-ordered pattern", Range::between(1, 1 << 16)});
+  if (s.spp & (s.spp - 1)) p.fail("spp", "must be a power of 2");
+  p.checkUnused();
+  return s;
+}
+
 namespace {
 
 struct LoadContext {
@@ -391,12 +402,7 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
   for (Params& sp : p.getList("shapes")) readShape(sp, scene, ctx);
   for (Params& lp : p.getList("lights")) readLight(lp, scene, ctx);
   std::string selection = p.getChoice("light_selection", "power", {"power", "uniform"});
-  if (auto s = p.getChild("sampler")) {
-    out.sampler.type = s->getChoice("type", "independent", {"independent", "stratified"});
-    out.sampler.strata = s->getInt("strata", 4);
-    if (out.sampler.strata < 1 || out.sampler.strata > 64) s->fail("strata", "must be in [1, 64]");
-    s->checkUnused();
-  }
+  if (auto s = p.getChild("sampler")) out.sampler = readSamplerSettings(*s);
   if (p.has("integrator")) {
     out.integrator = root["integrator"];
     if (!out.integrator.IsMap()) p.fail("integrator", "expected a mapping with a 'name'");

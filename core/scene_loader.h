@@ -36,6 +36,10 @@ struct SceneLoadOptions {
 // their lines).
 YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params);
 
+// A `sampler:` mapping (type, strata, spp), in a scene or an experiment's configuration.
+class Params;
+SamplerSettings readSamplerSettings(Params& p);
+
 SceneFile loadScene(const std::string& path);
 // The same with top-level keys replaced (e.g. `film: {width: 64, height: 64}`);
 // errors still name the scene file (lines of replaced keys are approximate).

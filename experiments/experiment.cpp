@@ -266,6 +266,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     base.label = cp.getString("label", base.integrator);
     base.params = integratorParams(cp, "params");
     base.context = cp.context() + ".params";
+    if (auto s = cp.getChild("sampler")) base.sampler = readSamplerSettings(*s);
     std::vector<Configuration> members = expandSweep(cp, base);
     cp.checkUnused();
     if (!integratorExists(base.integrator)) {

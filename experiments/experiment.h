@@ -3,6 +3,7 @@
 // configurations, a budget, snapshots, metrics and repeats. Parsed with the
 // same file:line:key errors as scenes; integrator names and parameters are
 // checked before anything renders.
+#include <optional>
 #include <string>
 #include <vector>
 #include "core/params.h"
@@ -56,6 +57,8 @@ struct Configuration {
   // own label, which groups the members in the plots, and the swept values.
   std::string sweepGroup;
   YAML::Node sweepValues{YAML::NodeType::Map};
+  // `sampler:` in the configuration replaces the scenes' own (core/sampler.h).
+  std::optional<SamplerSettings> sampler;
 };
 
 enum class SnapshotSpacing { Log, Linear };

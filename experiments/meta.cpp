@@ -82,6 +82,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     Params p(c.params, e.file, "configurations");
     makeIntegrator(c.integrator, p);  // resolves defaults
     json conf = {{"label", c.label}, {"integrator", c.integrator}, {"resolved_parameters", yamlToJson(p.resolved())}};
+    if (c.sampler) conf["sampler"] = {{"type", c.sampler->type}, {"strata", c.sampler->strata}, {"spp", c.sampler->spp}};
     if (!c.sweepGroup.empty()) conf["sweep"] = {{"group", c.sweepGroup}, {"values", yamlToJson(c.sweepValues)}};
     for (const auto& entry : integratorRegistry())
       if (entry.name == c.integrator) conf["unbiased"] = entry.unbiased(c.params);

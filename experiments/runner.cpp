@@ -373,7 +373,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       while (nextPoint + 1 < points.size() && at >= points[nextPoint]) ++nextPoint, due = true;
       if (due) record(p.passes, p.seconds, p.preprocessSeconds, false);
     };
-    RenderReport rep = renderLoop(scene, *integrator, film, scenes[t.scene].sampler, ro, afterPass);
+    RenderReport rep = renderLoop(scene, *integrator, film, c.sampler ? *c.sampler : scenes[t.scene].sampler, ro, afterPass);
     // Images first, the final row last: a run counts as finished (for
     // --resume) only once everything it produces is on disk.
     std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();

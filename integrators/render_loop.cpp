@@ -42,7 +42,7 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
                         const RenderOptions& options, const std::function<void(const PassProgress&)>& afterPass) {
   using Clock = std::chrono::steady_clock;
   enableFlushToZeroOnAllThreads();
-  auto sampler = makeSampler(samplerSettings, options.seed);
+  auto sampler = makeSampler(samplerSettings, options.seed, scene.camera.width(), scene.camera.height());
   RenderReport report;
   auto start = Clock::now();
   double excluded = 0;  // time spent in afterPass (snapshot metrics): not the integrator's

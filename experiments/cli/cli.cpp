@@ -62,6 +62,8 @@ int lightbenchMain(int argc, char** argv) {
                      "Render only pixels X0,Y0,X1,Y1 of the film ([X0, X1) x [Y0, Y1), after --resolution): the "
                      "output is that window, each pixel estimating what it does in the full render")
       ->check(cropWindow());
+  render->add_option("--sampler", r.sampler, "Sampler type, replacing the scene's: independent, stratified, sobol, zsobol, halton")
+      ->check(CLI::IsMember(std::vector<std::string>(std::begin(lb::SamplerTypes), std::end(lb::SamplerTypes))));
   render->add_option("--exposure", r.exposure, "Exposure of the PNG preview in stops (the EXR is never scaled)")
       ->check(CLI::Range(-64.0, 64.0));
   render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing")

@@ -30,6 +30,7 @@ struct RenderArgs {
   std::string crop;                    // "X0,Y0,X1,Y1": render only these pixels of the film
   float exposure = 0;                  // the PNG preview's, in stops
   std::vector<std::string> aovs;       // layers: albedo, normal, depth, variance, spp
+  std::string sampler;                 // replaces the scene's sampler type
 };
 
 // The AOV names --aov accepts.

@@ -154,6 +154,7 @@ Prepared prepare(const RenderArgs& args) {
   SceneLoadOptions loadOptions;
   loadOptions.strict = args.strict;
   SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
+  if (!args.sampler.empty()) sf.sampler.type = args.sampler;
   if (!args.crop.empty()) {
     int w[4];
     Camera& cam = sf.scene->camera;
@@ -223,6 +224,7 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["integrator"] = integ;
   resolved["sampler"]["type"] = job.sf.sampler.type;
   resolved["sampler"]["strata"] = job.sf.sampler.strata;
+  resolved["sampler"]["spp"] = job.sf.sampler.spp;
   resolved["seed"] = args.seed;
   resolved["spp"] = rep.passes;
   resolved["threads"] = args.threads;
@@ -278,7 +280,7 @@ int render(const RenderArgs& args) {
       throw flagError("--pixel", "must be a pixel X,Y inside the " + std::to_string(cam.width()) + "x" +
                                      std::to_string(cam.height()) + " film, got '" + args.replayPixel + "'");
     enableFlushToZeroOnAllThreads();
-    auto sampler = makeSampler(job.sf.sampler, args.seed);
+    auto sampler = makeSampler(job.sf.sampler, args.seed, job.sf.scene->camera.width(), job.sf.scene->camera.height());
     job.integrator->preprocess(*job.sf.scene, *sampler);
     auto value = job.integrator->replaySample(*job.sf.scene, *sampler, x, y, uint64_t(args.replaySample));
     if (!value) {
