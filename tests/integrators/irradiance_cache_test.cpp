@@ -207,7 +207,10 @@ std::vector<BiasLevel> cacheLevels(const SceneFile& sf, const std::vector<bool>&
 TEST(IrradianceCacheCornell, BiasWithinItsAllowanceAndShrinkingWithA) {
   SceneFile sf = loadShippedScene("cornell-box", 16, 16);
   std::vector<bool> mask = noEmitterSeen(*sf.scene);
-  const int Seeds = 16;
+  // 32 seeds: with 16, the shrink from a = 0.8 to 0.2 (about 0.010 summed)
+  // was within the 3.3σ margin (about 0.009) often enough that 2 of 7 seed
+  // bases failed; 32 seeds narrow the margin by √2.
+  const int Seeds = 32;
   SeedMeans pt = maskedSeedMeans(sf, {"path", "{}", 128, 3}, Seeds, 2, mask);
   std::vector<BiasLevel> levels = cacheLevels(sf, mask, {0.8, 0.2}, Seeds);
   expectBiasWithinAndShrinking("irradiance cache, diffuse Cornell box", levels, pt, CacheCoefficient, 1e-3,

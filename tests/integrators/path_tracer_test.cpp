@@ -15,15 +15,6 @@ const std::vector<std::string> Variants = {
     "{nee: true, mis: none}",         "{nee: true, mis: balance}",      "{nee: true, mis: power}",
     "{sampling: cosine, nee: true, mis: power}"};
 
-std::string furnaceScene(float albedo) {
-  // Camera inside a closed, inward-facing sphere of albedo a emitting Le = 1:
-  // L = Le / (1 - a) everywhere (testing.md §2).
-  return "camera: {position: [0.1, 0.2, 0.3], look_at: [1, 0, 0], fov: 60}\n"
-         "film: {width: 16, height: 16}\n"
-         "materials: {wall: {type: diffuse, albedo: " + std::to_string(albedo) + "}}\n"
-         "shapes: [{type: sphere, radius: 2, flip_normals: true, material: wall, emission: 1}]\n";
-}
-
 TEST(PathTracer, FurnaceGivesOneOverOneMinusAlbedo) {
   int tests = 2 * int(Variants.size());
   for (float a : {0.5f, 0.8f}) {

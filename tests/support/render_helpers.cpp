@@ -165,4 +165,11 @@ std::vector<bool> causticPixels(const SceneFile& scene, const RenderSpec& select
   return caustic;
 }
 
+std::string furnaceScene(float albedo) {
+  return "camera: {position: [0.1, 0.2, 0.3], look_at: [1, 0, 0], fov: 60}\n"
+         "film: {width: 16, height: 16}\n"
+         "materials: {wall: {type: diffuse, albedo: " + std::to_string(albedo) + "}}\n"
+         "shapes: [{type: sphere, radius: 2, flip_normals: true, material: wall, emission: 1}]\n";
+}
+
 }  // namespace lb::test

@@ -63,6 +63,9 @@ inline size_t countTrue(const std::vector<bool>& mask) { return size_t(std::coun
 // A 16×16 camera looking straight down at a diffuse plane (albedo 0.5) lit by
 // a point light of intensity 10 at (0.3, 2, 0.2): the analytic test scene.
 extern const char* const PointLightPlaneScene;
+// Camera inside a closed, inward-facing sphere of albedo a emitting Le = 1:
+// L = Le / (1 - a) everywhere (testing.md §2).
+std::string furnaceScene(float albedo);
 // Exact pixel-averaged radiance of a diffuse plane y = 0 (albedo rho) under a
 // point light (intensity I) for `camera`, by dense quadrature of ρIcosθ/(πr²).
 double pointLightOverPlane(const Camera& camera, Vec3 light, float intensity, float rho);
