@@ -147,16 +147,19 @@ void Scene::build(LightSelection selection) {
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  RTCRayHit rh;
-  rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-  rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-  rh.ray.tnear = 0, rh.ray.tfar = ray.tMax, rh.ray.time = 0, rh.ray.mask = ~0u, rh.ray.flags = 0;
+void Scene::toEmbree(const Ray& ray, RTCRay& r) {
+  r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
+  r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
+  r.tnear = 0, r.tfar = ray.tMax, r.time = 0, r.mask = ~0u, r.id = 0, r.flags = 0;
+}
+
+void Scene::toEmbree(const Ray& ray, RTCRayHit& rh) {
+  toEmbree(ray, rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(rtcScene_, &context, &rh);
+}
+
+bool Scene::interaction(const Ray& ray, const RTCRayHit& rh, SurfaceInteraction& si) const {
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   const Shape& shape = shapes_[rh.hit.geomID];
   shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
@@ -167,15 +170,42 @@ bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
   return true;
 }
 
+bool Scene::intersect(const Ray& ray, SurfaceInteraction& si) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  toEmbree(ray, rh);
+  rtcIntersect1(rtcScene_, &context, &rh);
+  return interaction(ray, rh, si);
+}
+
 bool Scene::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;
-  r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
-  r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
-  r.tnear = 0, r.tfar = ray.tMax, r.time = 0, r.mask = ~0u, r.flags = 0;
+  toEmbree(ray, r);
   rtcOccluded1(rtcScene_, &context, &r);
   return r.tfar < 0;
+}
+
+void Scene::intersect1(RTCRayHit& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(rtcScene_, &context, &ray);
+}
+
+void Scene::intersect1M(RTCRayHit* rays, size_t n, bool coherent) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  rtcIntersect1M(rtcScene_, &context, rays, unsigned(n), sizeof(RTCRayHit));
+}
+
+void Scene::occluded1M(RTCRay* rays, size_t n, bool coherent) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  rtcOccluded1M(rtcScene_, &context, rays, unsigned(n), sizeof(RTCRay));
 }
 
 }  // namespace lb

@@ -42,6 +42,19 @@ class Scene {
   bool intersect(const Ray& ray, SurfaceInteraction& si) const;
   bool occluded(const Ray& ray) const;
 
+  // Streams of rays through Embree's rtcIntersect1M / rtcOccluded1M, for
+  // engines that trace many rays at once (integrators/path/wavefront.h). The
+  // arrays are the caller's, allocated once and reused; `coherent` tells
+  // Embree that neighbouring rays are alike (camera rays). intersect() and
+  // occluded() are the same conversions around rtcIntersect1 / rtcOccluded1.
+  static void toEmbree(const Ray& ray, RTCRayHit& rh);
+  static void toEmbree(const Ray& ray, RTCRay& r);
+  void intersect1(RTCRayHit& ray) const;  // rtcIntersect1, no conversion (benchmarks)
+  void intersect1M(RTCRayHit* rays, size_t n, bool coherent) const;
+  void occluded1M(RTCRay* rays, size_t n, bool coherent) const;
+  // The hit a traced `rh` found for `ray`, as intersect() reports it; false if none.
+  bool interaction(const Ray& ray, const RTCRayHit& rh, SurfaceInteraction& si) const;
+
   Camera camera;
   const std::vector<std::unique_ptr<Light>>& lights() const { return lights_; }
   const std::vector<const Light*>& infiniteLights() const { return infiniteLights_; }
