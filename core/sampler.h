@@ -37,13 +37,15 @@ class Sampler {
   uint32_t dimension_ = 0;
 };
 
-// One PCG32 stream per (pixel, sample); dimension d is the stream's d-th draw.
+// One PCG32 stream per (pixel, sample); dimension d is the stream's d-th
+// draw. Jumps forward are a few draws (the path tracer's slots skip a handful
+// of dimensions per vertex), longer or backward jumps re-seed and advance.
 class IndependentSampler final : public Sampler {
  public:
   explicit IndependentSampler(uint64_t seed) : seed_(seed) {}
   void start(uint64_t pixel, uint64_t sample) override {
-    streamState_ = hashValues(seed_, pixel, sample);
-    rng_.seed(streamState_, mixBits(seed_));
+    key_ = hashValues(seed_, pixel, sample);
+    rng_.seed(key_, mixBits(seed_));
     dimension_ = 0;
   }
   float get1D() override {
@@ -55,15 +57,19 @@ class IndependentSampler final : public Sampler {
     return rng_.next2D();
   }
   void setDimension(uint32_t d) override {
-    if (d < dimension_) rng_.seed(streamState_, mixBits(seed_)), dimension_ = 0;
-    rng_.advance(d - dimension_);
+    if (d >= dimension_ && d - dimension_ <= 8) {
+      for (; dimension_ < d; ++dimension_) rng_.nextU32();
+      return;
+    }
+    rng_.seed(key_, mixBits(seed_));
+    rng_.advance(d);
     dimension_ = d;
   }
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<IndependentSampler>(*this); }
   uint64_t seed() const override { return seed_; }
 
  private:
-  uint64_t seed_, streamState_ = 0;
+  uint64_t seed_, key_ = 0;
   Pcg32 rng_;
 };
 

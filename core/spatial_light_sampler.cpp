@@ -1,6 +1,7 @@
 #include "core/spatial_light_sampler.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tbb/parallel_for.h>
 #include "core/rng.h"
 
@@ -16,10 +17,14 @@ float estimateFluence(const Light& light, const Vec3& p, uint64_t seed) {
     Vec2 u = rng.next2D();
     u.x = (float(i) + u.x) / Samples;  // stratified in the first dimension
     auto ls = light.sampleLi(p, rng.next1D(), u);
-    if (ls && ls->pdf > 0) sum += double(luminance(ls->L)) / ls->pdf;
+    // A point light exactly on a grid vertex gives an infinite value: skip
+    // that sample, not the light's whole estimate.
+    if (!ls || !(ls->pdf > 0)) continue;
+    double value = double(luminance(ls->L)) / ls->pdf;
+    if (std::isfinite(value)) sum += value;
   }
   float f = float(sum / Samples);
-  return std::isfinite(f) ? f : 0.f;
+  return std::isfinite(f) ? f : std::numeric_limits<float>::max();
 }
 }  // namespace
 
@@ -69,7 +74,9 @@ SpatialLightSampler::SpatialLightSampler(const Scene& scene, uint64_t seed) : li
 
 size_t SpatialLightSampler::voxelOf(const Vec3& p) const {
   Vec3 t = (p - bounds_.lo) / extent_ * float(res_);
-  auto cell = [&](float c) { return std::clamp(int(std::floor(c)), 0, res_ - 1); };
+  // Clamped as floats first: a NaN or a huge coordinate (a point-sized scene)
+  // must not reach the int conversion.
+  auto cell = [&](float c) { return c > 0 ? int(std::min(c, float(res_ - 1))) : 0; };
   return size_t(cell(t.x) + res_ * (cell(t.y) + res_ * cell(t.z)));
 }
 

@@ -75,6 +75,7 @@ std::vector<Configuration> expandSweep(Params& cp, const Configuration& base) {
     Configuration c;
     c.integrator = base.integrator;
     c.context = base.context;
+    c.sampler = base.sampler;
     for (auto it = base.params.begin(); it != base.params.end(); ++it) c.params[it->first] = it->second;
     c.sweepGroup = base.label;
     std::string suffix;

@@ -39,11 +39,12 @@ uint32_t HaltonSampler::primeBase(uint32_t d) { return primes()[d]; }
 
 // x = Σ_j π_j(a_j) b^−j: π_j a random permutation of the b digits for digit
 // position j, keyed by (seed, pixel, d, j). π_j is permuteIndex followed by a
-// random cyclic shift of the digit (Kensler 2013's listing ends with such a
-// shift, (i + p) mod n, which permuteIndex leaves out): the hash alone is not
-// uniform over keys when b is not a power of two (in base 3, digit 0 goes to
-// 0, 1, 2 with frequencies 0.375, 0.25, 0.375), which would bias every sample;
-// a uniform shift independent of it makes π_j(a) uniform for every a.
+// random cyclic shift of the digit drawn from the key's other half. Kensler's
+// hash alone is not uniform over keys when b is not a power of two (in base 3,
+// digit 0 went to 0, 1, 2 with frequencies 0.375, 0.25, 0.375), which would
+// bias every sample; permuteIndex ends with Kensler's own shift (i + key) mod
+// b, and the shift here, independent of the permutation's key, makes π_j(a)
+// uniform for every a whatever the hash does.
 float HaltonSampler::value(uint32_t d) const {
   if (d >= MaxDimensions) return float(uint32_t(hashValues(seed_, pixel_, sample_, d)) >> 8) * 0x1p-24f;
   uint32_t base = primes()[d];

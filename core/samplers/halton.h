@@ -12,7 +12,8 @@
 //
 // Here every (seed, pixel, dimension, digit position j) gets its own
 // permutation: permuteIndex(·, b, key) (Kensler 2013) then a random cyclic
-// shift (halton.cpp says why), so every pixel is an independent randomization. Digits are evaluated, zeros beyond i's last digit
+// shift (halton.cpp says why), so every pixel is an independent
+// randomization. Digits are evaluated, zeros beyond i's last digit
 // included (permuted zeros are not zero, so the points are not confined to a
 // lattice), until b^−j falls below 2^−24, float resolution; the sum is done in
 // double and rounded down to a float below 1. The first b^k samples (indeed

@@ -128,35 +128,34 @@ Color PathTracer::trace(PathState& s, const PathContext& c, uint64_t& rays, floa
     ++rays;
     bool hit = c.scene.intersect(s.ray, si);
     if (s.vertex == 0 && hit && firstHitDistance) *firstHitDistance = si.t;
-    bool scatterOn = false;
-    int n = shadeVertex(s, hit, si, c, L, shadows, &scatterOn);
+    std::optional<BSDF> bsdf;
+    int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
     for (int i = 0; i < n; ++i) {
       ++rays;
       if (!c.scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
     }
-    if (!scatterOn) break;
-    BSDF bsdf(si);
+    if (!bsdf) break;
     // M branches at the first vertex, each carrying β/M and its own slots.
     if (s.vertex == 0 && M > 1) {
       for (int b = 0; b < M; ++b) {
         PathState next = s;
         next.beta /= float(M);
         next.branch = b;
-        if (scatter(next, si, bsdf, c.sampler, vertexBase(next, c))) {
+        if (scatter(next, si, *bsdf, c.sampler, vertexBase(next, c))) {
           ++next.vertex;
           L += trace(next, c, rays, nullptr);
         }
       }
       break;
     }
-    if (!scatter(s, si, bsdf, c.sampler, vertexBase(s, c))) break;
+    if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c))) break;
   }
   return L;
 }
 
 int PathTracer::shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
-                            ShadowRequest* shadows, bool* scatterOn) const {
-  *scatterOn = false;
+                            ShadowRequest* shadows, std::optional<BSDF>& bsdfOut) const {
+  bsdfOut.reset();
   const float q = settings_.lightSelectionProbability;
   const int segments = s.vertex + 1;
   const uint32_t base = vertexBase(s, c);
@@ -205,18 +204,16 @@ int PathTracer::shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si
     }
   }
   if (!canContinue) return 0;
-  *scatterOn = true;
-
-  BSDF bsdf(si);
+  const BSDF& bsdf = bsdfOut.emplace(si);
   bool delta = bsdf.isDelta();
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !delta;
   float bsdfCount = s.vertex == 0 ? float(settings_.firstBounceSamples) : 1.f;
   auto scatterPdf = [&](const DirectLightSample& d) {
     return hemisphere ? hemispherePdf(settings_.sampling, bsdf, si.wo, d.wi) : d.bsdfPdf;
   };
-  // Light sample (shadow ray) i at this vertex: slots 6 + 4i … 9 + 4i.
+  // Light sample (shadow ray) i at this vertex: slots 2 + 4i … 5 + 4i.
   auto lightSample = [&](int i) {
-    sampler.setDimension(base + 6 + 4 * uint32_t(i));
+    sampler.setDimension(base + 2 + 4 * uint32_t(i));
     float pmf = 0;
     const Light* light = chooseLight(c.scene, si.p, sampler.get1D(), &pmf);
     float uPick = sampler.get1D();
@@ -254,7 +251,7 @@ bool PathTracer::scatter(PathState& next, const SurfaceInteraction& si, const BS
                          uint32_t slots) const {
   const int segments = next.vertex + 1;
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !bsdf.isDelta();
-  sampler.setDimension(slots + 3);
+  sampler.setDimension(slots + settings_.scatterSlot());
   float uLobe = sampler.get1D();
   Vec2 uDir = sampler.get2D();
   Vec3 wi;
@@ -280,7 +277,7 @@ bool PathTracer::scatter(PathState& next, const SurfaceInteraction& si, const BS
   if (isBlack(next.beta)) return false;
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
-  sampler.setDimension(slots + 2);
+  sampler.setDimension(slots + settings_.scatterSlot() + 3);
   return settings_.length.survivesRoulette(segments, next.beta, next.etaScale, sampler);
 }
 

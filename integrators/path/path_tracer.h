@@ -36,13 +36,18 @@
 // the first vertex branches) starts at dimension
 //     entry + (v·M + b)·S,  S = 6 + 4·N,
 // where entry is sampler.dimension() when the path starts (2 for camera
-// paths), and the vertex's slots are
-//     0 emit-vs-reflect choice   1 one-sample strategy choice   2 roulette
-//     3 lobe   4-5 direction     6 + 4i .. 9 + 4i  shadow ray i (light, pick, point)
+// paths), and the vertex's slots, in the order they are drawn, are
+//     0 emit-vs-reflect choice   1 one-sample strategy choice
+//     2 + 4i .. 5 + 4i  shadow ray i (light, pick, 2-D point)
+//     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
 // At the first vertex, slots 0, 1 and the shadow rays are branch 0's; each
 // branch b draws its own lobe, direction and roulette. So a low-discrepancy
-// sampler gives every vertex the same dimensions on every path.
+// sampler gives every vertex the same dimensions on every path. Draws go
+// forward within a path (the independent sampler skips ahead, cheaply; a
+// step back would re-seed it).
 #include <memory>
+#include <optional>
+#include "core/bsdfs/bsdf.h"
 #include "core/params.h"
 #include "core/spatial_light_sampler.h"
 #include "integrators/integrator.h"
@@ -67,8 +72,10 @@ struct PathTracerSettings {
   PathLength length;
 
   static PathTracerSettings read(Params& p);
-  // Dimensions one vertex of one branch takes (S above).
+  // Dimensions one vertex of one branch takes (S above), and where its
+  // direction sampling (lobe, direction, roulette) begins.
   uint32_t vertexStride() const { return 6 + 4 * uint32_t(shadowRays); }
+  uint32_t scatterSlot() const { return 2 + 4 * uint32_t(shadowRays); }
 };
 
 // One-sample MIS weights over (light, BSDF) chosen with probabilities (q, 1 − q):
@@ -125,7 +132,9 @@ class PathTracer final : public PixelIntegrator {
   // (or of the environment, if the ray escapes) is left out: the caller counts
   // that light itself (the irradiance cache's records gather only indirect
   // light). `firstHitDistance`, if given, receives the first hit's distance
-  // (infinity if the ray escapes).
+  // (infinity if the ray escapes). The path's dimensions start at
+  // sampler.dimension(); the sampler is left at no particular dimension, so a
+  // caller restarts it (start()) before drawing again.
   Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
                          bool firstEmission, float* firstHitDistance = nullptr) const;
 
@@ -134,11 +143,11 @@ class PathTracer final : public PixelIntegrator {
   //  shadeVertex: what the ray of `s` found (`hit`, `si`): its emission is
   //    added to L, its light samples are written to `shadows` (their number is
   //    returned; the caller adds each contribution whose ray is unoccluded);
-  //    `scatterOn` says whether the path may go on from `si`.
+  //    `bsdf` is set if the path may go on from `si`.
   //  scatter: the next direction from the vertex's dimension slots; updates
   //    `next` (β, pdfs, ray); false if the path ends (absorbed, roulette).
   int shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
-                  ShadowRequest* shadows, bool* scatterOn) const;
+                  ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
   bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots) const;
   // The first dimension of the vertex `s` is about to reach (layout above).
   uint32_t vertexBase(const PathState& s, const PathContext& c) const {

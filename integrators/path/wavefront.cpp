@@ -11,7 +11,7 @@ void WavefrontEngine::renderPass(const Scene& scene, Film& film, const Sampler& 
   const int across = (W + BatchSize - 1) / BatchSize, down = (H + BatchSize - 1) / BatchSize;
   tbb::parallel_for(tbb::blocked_range<int>(0, across * down, 1), [&](const tbb::blocked_range<int>& range) {
     Workspace& w = workspaces_.local();
-    if (!w.sampler) w.sampler = prototype.clone();
+    w.sampler = prototype.clone();  // this pass's prototype (a render may change seeds)
     uint64_t rays = 0;
     for (int b = range.begin(); b != range.end(); ++b) {
       int x0 = (b % across) * BatchSize, y0 = (b / across) * BatchSize;
@@ -69,13 +69,12 @@ uint64_t WavefrontEngine::renderBatch(Workspace& w, const Scene& scene, Film& fi
       PathContext ctx{scene, sampler, maxDepth, true, 2};
       SurfaceInteraction si;
       bool hit = scene.interaction(s.ray, w.rayhits[k], si);
-      bool scatterOn = false;
-      int made = estimator_.shadeVertex(s, hit, si, ctx, w.L[size_t(i)], &w.shadows[queued], &scatterOn);
+      std::optional<BSDF> bsdf;
+      int made = estimator_.shadeVertex(s, hit, si, ctx, w.L[size_t(i)], &w.shadows[queued], bsdf);
       for (int j = 0; j < made; ++j) w.shadowOwner[queued + size_t(j)] = i;
       queued += size_t(made);
-      if (!scatterOn) continue;
-      BSDF bsdf(si);
-      if (!estimator_.scatter(s, si, bsdf, sampler, estimator_.vertexBase(s, ctx))) continue;
+      if (!bsdf) continue;
+      if (!estimator_.scatter(s, si, *bsdf, sampler, estimator_.vertexBase(s, ctx))) continue;
       ++s.vertex;
       w.nextActive.push_back(i);
     }

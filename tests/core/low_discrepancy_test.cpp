@@ -181,8 +181,11 @@ TEST(Halton, FirstPowersOfTheBaseAreStratified) {
 TEST(LowDiscrepancy, SingleSamplesOverPixelsAreUniformAndDistinct) {
   const int bins = 16, pixels = 65536;
   const std::vector<std::pair<uint64_t, uint32_t>> cases = {{0, 0}, {5, 3}, {37, 50}};  // (sample, dimension)
-  const double alpha = Alpha / double(LowDiscrepancy.size() * cases.size());
-  for (const std::string& type : LowDiscrepancy) {
+  // The independent sampler too: its values are hashes of (key, dimension).
+  std::vector<std::string> types = LowDiscrepancy;
+  types.push_back("independent");
+  const double alpha = Alpha / double(types.size() * cases.size());
+  for (const std::string& type : types) {
     auto s = make(type, 17, 16, 256, 256);
     for (auto [sample, dim] : cases) {
       std::vector<double> observed(bins * bins, 0), expected(bins * bins, double(pixels) / (bins * bins));

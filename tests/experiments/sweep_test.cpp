@@ -47,6 +47,20 @@ class Sweep : public ::testing::Test {
   fs::path dir_;
 };
 
+// A configuration's `sampler:` replaces the scenes' sampler for it, and for
+// every member of its sweep.
+TEST_F(Sweep, MembersKeepTheConfigurationsSampler) {
+  Experiment e = load("{label: PT sobol, integrator: path, sampler: {type: sobol}, sweep: {shadow_rays: [1, 4]}}");
+  ASSERT_EQ(e.configurations.size(), 3u);
+  EXPECT_FALSE(e.configurations[0].sampler.has_value());
+  for (size_t i = 1; i < 3; ++i) {
+    ASSERT_TRUE(e.configurations[i].sampler.has_value()) << e.configurations[i].label;
+    EXPECT_EQ(e.configurations[i].sampler->type, "sobol");
+  }
+  EXPECT_NE(refused("{label: S, integrator: path, sampler: {type: owen}}").find("'configurations[1].sampler.type'"),
+            std::string::npos);
+}
+
 TEST_F(Sweep, ExpandsToTheCartesianProductLabelledByValues) {
   Experiment e = load("{label: SPPM, integrator: sppm, params: {lookup: flann},"
                       " sweep: {relative_radius: [0.005, 0.01, 0.02], alpha: [0.5, 0.7]}}");
