@@ -3,7 +3,7 @@
 // index) and hands out dimensions: get1D() uses one, get2D() two. Every value
 // is a function of (seed, pixel, sample index, dimension) only, so images do
 // not depend on thread scheduling, and setDimension() lets an integrator give
-// each path vertex a fixed range of dimensions (integrators/path/path_tracer.h
+// each path vertex a fixed range of dimensions (integrators/path_estimator/path_estimator.h
 // documents its layout) so a low-discrepancy sampler's strata line up from one
 // path to the next.
 //

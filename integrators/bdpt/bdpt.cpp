@@ -1,5 +1,5 @@
 #include "integrators/bdpt/bdpt.h"
-#include "integrators/bidirectional/subpaths.h"
+#include "integrators/bidirectional/all_strategies.h"
 #include <filesystem>
 #include "integrators/pixel_tiles.h"
 
@@ -50,39 +50,29 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
   std::vector<std::vector<StrategySplat>> strategySplats(size_t(tileCount(W, H)));
   PassImage image(W, H);
-  int maxSeg = settings_.length.maxSegments();
-  // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays.
-  size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1, lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
-    thread_local std::vector<bidir::Vertex> camera, light;
-    camera.resize(cameraCapacity), light.resize(lightCapacity);
+    thread_local bidir::SubpathBuffers buffers;
+    buffers.fit(settings_.length);
     sampler.start(uint64_t(y) * W + x, pass);
     Vec2 raster = Vec2(x, y) + sampler.get2D();
-    int nCamera = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
-    int nLight = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
     Color L(0.f);
-    // s = 1 samples its own light point, so it runs even when the light
-    // subpath is empty (emission sampling failed).
-    for (int t = 1; t <= nCamera; ++t)
-      for (int s = 0; s <= std::max(nLight, 1); ++s) {
-        int segments = s + t - 1;
-        if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;
-        bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, light, camera, s, t, rays);
-        if (isBlack(c.L) || c.weight == 0) continue;
-        Color weighted = c.L * c.weight;
-        if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
-          film.recordNonFinite(x, y, pass);
-          continue;
-        }
-        if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
-        else L += weighted;
-        int k = strategies_.empty() ? -1 : strategyIndex(s, t);
-        if (k >= 0) {
-          Vec2 at = t == 1 ? c.raster : Vec2(x, y);
-          strategySplats[size_t(tile)].push_back({k, {at, weighted}, {at, c.L}});
-        }
-      }
+    bidir::sampleAllStrategies(
+        scene, {sampler, sampler, sampler}, settings_.length, settings_.mis, raster, buffers, rays,
+        [&](int s, int t, const bidir::Connection& c) {
+          Color weighted = c.L * c.weight;
+          if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
+            film.recordNonFinite(x, y, pass);
+            return;
+          }
+          if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
+          else L += weighted;
+          int k = strategies_.empty() ? -1 : strategyIndex(s, t);
+          if (k >= 0) {
+            Vec2 at = t == 1 ? c.raster : Vec2(x, y);
+            strategySplats[size_t(tile)].push_back({k, {at, weighted}, {at, c.L}});
+          }
+        });
     image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
   });
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums

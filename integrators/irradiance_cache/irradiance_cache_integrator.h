@@ -37,7 +37,7 @@
 #include "core/params.h"
 #include "integrators/integrator.h"
 #include "integrators/irradiance_cache/irradiance_cache.h"
-#include "integrators/path/path_tracer.h"
+#include "integrators/path_estimator/path_estimator.h"
 #include "integrators/path_length.h"
 #include "integrators/photon_map/photon_map_settings.h"
 
@@ -94,7 +94,7 @@ class IrradianceCacheIntegrator final : public Integrator {
                const std::function<void(int x, int y, const Color&)>& result);
 
   IrradianceCacheSettings settings_;
-  PathTracer base_;
+  PathEstimator base_;
   const Scene* scene_ = nullptr;
   const Film* film_ = nullptr;
   uint64_t seed_ = 0;

@@ -18,8 +18,8 @@
 //   shadows  the light samples the bounce made (ray, contribution, owner),
 //            one occlusion stream per bounce.
 // Each bounce: (1) intersect the active stream; (2) shade every active path in
-// order (PathTracer::shadeVertex: emission into L, light samples appended to
-// the shadow queue; PathTracer::scatter: the next ray, or the path ends);
+// order (PathEstimator::shadeVertex: emission into L, light samples appended to
+// the shadow queue; PathEstimator::scatter: the next ray, or the path ends);
 // (3) trace the shadow stream and add the unoccluded contributions to their
 // owners' L in queue order. After the last bounce each L goes to the film.
 //
@@ -34,7 +34,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <vector>
 #include "integrators/integrator.h"
-#include "integrators/path/path_tracer.h"
+#include "integrators/path_estimator/path_estimator.h"
 
 namespace lb {
 
@@ -42,7 +42,7 @@ class WavefrontEngine {
  public:
   static constexpr int BatchSize = 64;  // pixels per side of a batch
 
-  explicit WavefrontEngine(const PathTracer& estimator) : estimator_(estimator) {}
+  explicit WavefrontEngine(const PathEstimator& estimator) : estimator_(estimator) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats);
 
  private:
@@ -60,7 +60,7 @@ class WavefrontEngine {
   // One batch: pixels [x0, x1) × [y0, y1); returns the rays traced.
   uint64_t renderBatch(Workspace& w, const Scene& scene, Film& film, uint64_t pass, int x0, int y0, int x1, int y1) const;
 
-  const PathTracer& estimator_;
+  const PathEstimator& estimator_;
   tbb::enumerable_thread_specific<Workspace> workspaces_;
 };
 

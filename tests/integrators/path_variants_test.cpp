@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <cstring>
 #include "core/spatial_light_sampler.h"
-#include "integrators/path/path_tracer.h"
+#include "integrators/path_estimator/path_estimator.h"
 #include "tests/support/render_helpers.h"
 #include "tests/support/statistics.h"
 

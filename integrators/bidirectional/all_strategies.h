@@ -1,0 +1,42 @@
+#pragma once
+// One bidirectional sample with every strategy: a camera subpath through
+// `raster`, a light subpath, and each connection (s, t) they allow, weighted
+// by MIS over all strategies (Veach 1997 ch. 10; pbrt-v3 §16.3). Shared by
+// `bdpt` (one such sample per pixel and pass) and by primary-sample-space MLT
+// over BDPT (`mlt` with base: bdpt, Kelemen et al. 2002 §4), which draws the
+// camera subpath, the light subpath and the connections from three separate
+// streams of its primary sample vector; bdpt passes one sampler for all three,
+// drawn in that order.
+#include <functional>
+#include <vector>
+#include "core/sampler.h"
+#include "integrators/bidirectional/connect.h"
+#include "integrators/path_length.h"
+
+namespace lb::bidir {
+
+struct SampleStreams {
+  Sampler& camera;      // the camera subpath's walk (the raster position is the caller's)
+  Sampler& light;       // the light subpath
+  Sampler& connection;  // what connect() draws (s = 1 light points)
+};
+
+// The vertex arrays a sample reuses; sized once from the path length
+// ("unlimited" depth is capped at 4096 segments).
+struct SubpathBuffers {
+  std::vector<Vertex> camera, light;
+  SubpathBuffers() = default;
+  explicit SubpathBuffers(const PathLength& length) { fit(length); }
+  void fit(const PathLength& length);  // cheap when already sized for `length`
+};
+
+// Called for each strategy with a non-zero weighted contribution `c.L · c.weight`
+// (possibly non-finite: the caller counts and drops those). For t = 1 the
+// contribution belongs at c.raster, otherwise at the sample's own raster.
+using StrategyCallback = std::function<void(int s, int t, const Connection& c)>;
+
+void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const PathLength& length,
+                         MisWeighting mis, Vec2 raster, SubpathBuffers& buffers, uint64_t& rays,
+                         const StrategyCallback& onStrategy);
+
+}  // namespace lb::bidir

@@ -1,0 +1,268 @@
+#include "integrators/path_estimator/path_estimator.h"
+#include "core/bsdfs/bsdf.h"
+#include "core/sampling.h"
+#include "integrators/direct_light.h"
+
+namespace lb {
+
+PathTracerSettings PathTracerSettings::read(Params& p) {
+  PathTracerSettings s;
+  std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"},
+                                     "how the next direction is sampled at a surface");
+  s.sampling = sampling == "bsdf" ? DirectionSampling::Bsdf
+               : sampling == "cosine" ? DirectionSampling::Cosine
+                                      : DirectionSampling::Uniform;
+  s.nee = p.getBool("nee", true, "next-event estimation: shadow rays to sampled light points at each vertex");
+  std::string mis = p.getChoice("mis", "power", {"power", "balance", "none", "one_sample"},
+                                "weights of NEE against the sampled direction hitting a light (Veach 1997, 9.2); "
+                                "one_sample picks one of the two per vertex");
+  s.mis = mis == "power"     ? MisHeuristic::Power
+          : mis == "balance" ? MisHeuristic::Balance
+          : mis == "none"    ? MisHeuristic::None
+                             : MisHeuristic::OneSample;
+  s.lightSelectionProbability =
+      p.getFloat("light_selection_probability", 0.5f,
+                 {"mis: one_sample: probability of taking the light sample at a vertex", Range::open(0, 1)});
+  s.emissionSelection = p.getFloat(
+      "emission_selection", 0.f,
+      {"emit vs reflect: at an emitter the path ends, counting its emission, with this probability (0: off)",
+       Range{0.0, 1.0, false, true}});
+  s.shadowRays = p.getInt("shadow_rays", 1, {"light samples (shadow rays) per vertex", Range::between(1, 64)});
+  s.firstBounceSamples = p.getInt("first_bounce_samples", 1,
+                                  {"directions sampled at the first vertex, each traced on", Range::between(1, 64)});
+  std::string lights = p.getChoice(
+      "light_selection", "scene", {"scene", "uniform", "power", "spatial"},
+      "which light NEE samples: the scene's rule, uniformly, by power, or by a per-voxel estimate of contribution");
+  s.lightSelection = lights == "scene"     ? LightChoice::Scene
+                     : lights == "uniform" ? LightChoice::Uniform
+                     : lights == "power"   ? LightChoice::Power
+                                           : LightChoice::Spatial;
+  s.wavefront = p.getChoice("engine", "single_ray", {"single_ray", "wavefront"},
+                            "one path at a time, or all of a batch's rays in Embree streams (wavefront.h)") ==
+                "wavefront";
+  s.length = PathLength::read(p);
+  if (s.wavefront && s.firstBounceSamples > 1)
+    p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
+  if (s.mis == MisHeuristic::OneSample && s.shadowRays > 1)
+    p.fail("shadow_rays", "mis: one_sample takes one light sample or none at a vertex; use shadow_rays: 1");
+  p.checkUnused();
+  return s;
+}
+
+OneSampleWeights oneSampleMisWeights(float q, float lightPdf, float bsdfPdf) {
+  float light = q * lightPdf, bsdf = (1 - q) * bsdfPdf;
+  if (!(light + bsdf > 0)) return {0.f, 0.f};
+  return {light / (light + bsdf), bsdf / (light + bsdf)};
+}
+
+void PathEstimator::preprocess(const Scene& scene, uint64_t seed) {
+  if (settings_.lightSelection == LightChoice::Uniform) ownLights_ = LightSampler(scene.lights(), LightSelection::Uniform);
+  if (settings_.lightSelection == LightChoice::Power) ownLights_ = LightSampler(scene.lights(), LightSelection::Power);
+  if (settings_.lightSelection == LightChoice::Spatial)
+    spatial_ = std::make_shared<SpatialLightSampler>(scene, hashValues(seed, 0x5ba71a1));
+}
+
+const Light* PathEstimator::chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const {
+  switch (settings_.lightSelection) {
+    case LightChoice::Spatial: return spatial_->sample(p, u, pmf);
+    case LightChoice::Uniform:
+    case LightChoice::Power: return ownLights_.sample(u, pmf);
+    default: return scene.lightSampler().sample(u, pmf);
+  }
+}
+
+float PathEstimator::lightPmf(const Scene& scene, const Vec3& p, const Light* light) const {
+  switch (settings_.lightSelection) {
+    case LightChoice::Spatial: return spatial_->pmf(p, light);
+    case LightChoice::Uniform:
+    case LightChoice::Power: return ownLights_.pmf(light);
+    default: return scene.lightSampler().pmf(light);
+  }
+}
+
+// Multi-sample MIS with sample counts (Veach 1997 Eq. 9.13): the heuristic of
+// n_i p_i against n_j p_j.
+float PathEstimator::misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const {
+  switch (settings_.mis) {
+    case MisHeuristic::Power: return powerHeuristic(nThis * pdfThis, nOther * pdfOther);
+    case MisHeuristic::Balance: return balanceHeuristic(nThis * pdfThis, nOther * pdfOther);
+    default: return 1.f;
+  }
+}
+
+Color PathEstimator::incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxDepth,
+                                   bool firstEmission, float* firstHitDistance) const {
+  if (firstHitDistance) *firstHitDistance = Infinity;
+  if (maxDepth < 1) return Color(0.f);  // max_depth 0 renders black
+  PathState state;
+  state.ray = ray;
+  state.prevPoint = ray.o;
+  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension()};
+  return trace(state, ctx, rays, firstHitDistance);
+}
+
+// The single-ray engine: one path, depth first, each shadow ray traced as
+// soon as it is made.
+Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, float* firstHitDistance) const {
+  const int M = settings_.firstBounceSamples;
+  Color L(0.f);
+  ShadowRequest shadows[MaxShadowRays];
+  for (;; ++s.vertex) {
+    SurfaceInteraction si;
+    ++rays;
+    bool hit = c.scene.intersect(s.ray, si);
+    if (s.vertex == 0 && hit && firstHitDistance) *firstHitDistance = si.t;
+    std::optional<BSDF> bsdf;
+    int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
+    for (int i = 0; i < n; ++i) {
+      ++rays;
+      if (!c.scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
+    }
+    if (!bsdf) break;
+    // M branches at the first vertex, each carrying β/M and its own slots.
+    if (s.vertex == 0 && M > 1) {
+      for (int b = 0; b < M; ++b) {
+        PathState next = s;
+        next.beta /= float(M);
+        next.branch = b;
+        if (scatter(next, si, *bsdf, c.sampler, vertexBase(next, c))) {
+          ++next.vertex;
+          L += trace(next, c, rays, nullptr);
+        }
+      }
+      break;
+    }
+    if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c))) break;
+  }
+  return L;
+}
+
+int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
+                            ShadowRequest* shadows, std::optional<BSDF>& bsdfOut) const {
+  bsdfOut.reset();
+  const float q = settings_.lightSelectionProbability;
+  const int segments = s.vertex + 1;
+  const uint32_t base = vertexBase(s, c);
+  Sampler& sampler = c.sampler;
+  bool countEmission = segments > 1 || c.firstEmission;
+
+  // Emission reached by this segment, MIS-weighted against the previous
+  // vertex's light samples.
+  auto emissionWeight = [&](const Light* light, float pdfLi) {
+    if (s.prevDelta || !settings_.nee) return 1.f;
+    float lightPdf = lightPmf(c.scene, s.prevPoint, light) * pdfLi;
+    switch (settings_.mis) {
+      case MisHeuristic::None: return 0.f;
+      // w_f / (1 − q): the division by the strategy's selection probability.
+      case MisHeuristic::OneSample:
+        return s.prevLightChosen ? 0.f : oneSampleMisWeights(q, lightPdf, s.prevPdf).bsdf / (1 - q);
+      default: return misWeight(s.prevBsdfCount, s.prevPdf, float(settings_.shadowRays), lightPdf);
+    }
+  };
+  if (!hit) {
+    if (!countEmission) return 0;
+    for (const Light* env : c.scene.infiniteLights()) {
+      Color Le = env->Le(s.ray.d);
+      if (!isBlack(Le)) L += s.beta * Le * emissionWeight(env, env->pdfLi(s.prevPoint, s.ray.d, {}, {}));
+    }
+    return 0;
+  }
+  bool canContinue = segments < c.maxDepth && si.material;
+  if (si.emitter && countEmission) {
+    Color Le = si.emitter->L(si.ng, si.wo);
+    Color emitted = isBlack(Le) ? Color(0.f)
+                                : s.beta * Le *
+                                      emissionWeight(si.emitter, si.emitter->pdfLi(s.prevPoint, s.ray.d, si.p, si.ng));
+    // Emit vs reflect: one of the two terms of the rendering equation, each
+    // divided by the probability of choosing it.
+    if (!isBlack(emitted) && canContinue && settings_.emissionSelection > 0) {
+      sampler.setDimension(base + 0);
+      float p = settings_.emissionSelection;
+      if (sampler.get1D() < p) {
+        L += emitted / p;
+        return 0;
+      }
+      s.beta /= 1 - p;
+    } else {
+      L += emitted;
+    }
+  }
+  if (!canContinue) return 0;
+  const BSDF& bsdf = bsdfOut.emplace(si);
+  bool delta = bsdf.isDelta();
+  bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !delta;
+  float bsdfCount = s.vertex == 0 ? float(settings_.firstBounceSamples) : 1.f;
+  auto scatterPdf = [&](const DirectLightSample& d) {
+    return hemisphere ? hemispherePdf(settings_.sampling, bsdf, si.wo, d.wi) : d.bsdfPdf;
+  };
+  // Light sample (shadow ray) i at this vertex: slots 2 + 4i … 5 + 4i.
+  auto lightSample = [&](int i) {
+    sampler.setDimension(base + 2 + 4 * uint32_t(i));
+    float pmf = 0;
+    const Light* light = chooseLight(c.scene, si.p, sampler.get1D(), &pmf);
+    float uPick = sampler.get1D();
+    Vec2 u = sampler.get2D();
+    return directLightQuery(si, bsdf, light, pmf, uPick, u);
+  };
+
+  // Next-event estimation.
+  int n = 0;
+  bool lightChosen = false;
+  if (settings_.nee && !delta && !c.scene.lightSampler().empty()) {
+    if (settings_.mis == MisHeuristic::OneSample) {
+      sampler.setDimension(base + 1);
+      lightChosen = sampler.get1D() < q;
+      if (lightChosen)
+        if (auto d = lightSample(0)) {
+          float w = d->sample.deltaLight ? 1.f : oneSampleMisWeights(q, d->sample.lightPdf, scatterPdf(d->sample)).light;
+          shadows[n++] = {d->shadowRay, s.beta * d->sample.contribution * (w / q)};
+        }
+    } else {
+      const int N = settings_.shadowRays;
+      for (int i = 0; i < N; ++i)
+        if (auto d = lightSample(i)) {
+          float w = d->sample.deltaLight ? 1.f : misWeight(float(N), d->sample.lightPdf, bsdfCount, scatterPdf(d->sample));
+          shadows[n++] = {d->shadowRay, s.beta * d->sample.contribution * (w / float(N))};
+        }
+    }
+  }
+  s.prevLightChosen = lightChosen;
+  s.prevBsdfCount = bsdfCount;
+  return n;
+}
+
+bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler,
+                         uint32_t slots) const {
+  const int segments = next.vertex + 1;
+  bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !bsdf.isDelta();
+  sampler.setDimension(slots + settings_.scatterSlot());
+  float uLobe = sampler.get1D();
+  Vec2 uDir = sampler.get2D();
+  Vec3 wi;
+  if (hemisphere) {
+    DirectionChoice d = sampleHemisphere(settings_.sampling, bsdf, si.wo, uLobe, uDir);
+    BSDFEval e = bsdf.eval(si.wo, d.wi, TransportMode::Radiance);
+    if (d.pdf == 0 || isBlack(e.f)) return false;
+    next.beta *= e.f * absDot(d.wi, bsdf.shadingNormal()) / d.pdf;
+    if (glm::dot(d.wi, si.ng) * glm::dot(si.wo, si.ng) < 0)
+      next.etaScale *= sqr(bsdf.material().relativeEta(bsdf.frame().toLocal(si.wo)));
+    wi = d.wi;
+    next.prevPdf = d.pdf;
+    next.prevDelta = false;
+  } else {
+    auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Radiance);
+    if (!bs) return false;
+    next.beta *= bs->weight;
+    if (bs->lobe & BSDFTransmission) next.etaScale *= sqr(bs->eta);
+    wi = bs->wi;
+    next.prevPdf = bs->pdf;
+    next.prevDelta = bs->isDelta();
+  }
+  if (isBlack(next.beta)) return false;
+  next.prevPoint = si.p;
+  next.ray = si.spawnRay(wi);
+  sampler.setDimension(slots + settings_.scatterSlot() + 3);
+  return settings_.length.survivesRoulette(segments, next.beta, next.etaScale, sampler);
+}
+
+}  // namespace lb

@@ -1,0 +1,179 @@
+#pragma once
+// The unidirectional path estimator, shared by the `path` integrator (and its
+// wavefront engine), the irradiance cache's records and primary-sample-space
+// MLT: unidirectional path tracing with the switches of the classic comparisons
+// (Veach 1997 ch. 9; pbrt-v4 §13.4; the lectures' "simplest Monte Carlo path
+// tracer" and "efficient implementation"):
+//
+//   sampling   bsdf | cosine | uniform   how non-delta bounces choose directions
+//   nee        true | false              next-event estimation (light samples at each vertex)
+//   mis        power | balance | none | one_sample
+//                                        how NEE and emitter hits are combined
+//   light_selection_probability q        one_sample: the chance of taking the light sample
+//   emission_selection p                 emit-vs-reflect: end at an emitter with chance p
+//   shadow_rays N, first_bounce_samples M  splitting
+//   light_selection scene | uniform | power | spatial
+//   engine     single_ray | wavefront    one path at a time, or rays in streams (wavefront.h)
+//   max_depth, rr, rr_depth              path length and roulette (path_length.h)
+// (these are the `path` integrator's keys, read by PathTracerSettings::read)
+//
+// With nee on and mis none, emitters hit after a non-delta bounce are ignored
+// (pure NEE); with nee off, only hits count, so delta lights are invisible.
+//
+// Estimators (each cited where it is computed in path_tracer.cpp):
+//  * multi-sample MIS with N light samples and M (first vertex) or 1 BSDF
+//    samples: weights w_i = h(n_i p_i, n_j p_j), Veach 1997 Eq. 9.12-9.13;
+//  * one-sample MIS: one strategy per vertex, the light's with probability q;
+//    its estimate is w_L f/(q p_L) or w_f f/((1 − q) p_f) with the balance
+//    heuristic over the selection probabilities, w_i = c_i p_i / Σ c_k p_k
+//    (Veach 1997 Eq. 9.15 and §9.2.4). The path always continues with the
+//    BSDF direction; the emitter it reaches counts only if that vertex chose
+//    the BSDF strategy. Weights sum to 1: w_L + w_f = 1.
+//  * emit vs reflect: at an emitter where the path could continue, the
+//    (weighted) emission is taken with probability p and the path ends, else
+//    the emission is skipped and β is divided by 1 − p (Russian roulette over
+//    the two terms of the rendering equation).
+//
+// Sampler dimensions (core/sampler.h): the camera ray uses 0-1 (pixel
+// jitter). Vertex v (the camera ray's hit is v = 0) of branch b (b < M; only
+// the first vertex branches) starts at dimension
+//     entry + (v·M + b)·S,  S = 6 + 4·N,
+// where entry is sampler.dimension() when the path starts (2 for camera
+// paths), and the vertex's slots, in the order they are drawn, are
+//     0 emit-vs-reflect choice   1 one-sample strategy choice
+//     2 + 4i .. 5 + 4i  shadow ray i (light, pick, 2-D point)
+//     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
+// At the first vertex, slots 0, 1 and the shadow rays are branch 0's; each
+// branch b draws its own lobe, direction and roulette. So a low-discrepancy
+// sampler gives every vertex the same dimensions on every path. Draws go
+// forward within a path (the independent sampler skips ahead, cheaply; a
+// step back would re-seed it).
+#include <memory>
+#include <optional>
+#include "core/bsdfs/bsdf.h"
+#include "core/params.h"
+#include "core/spatial_light_sampler.h"
+#include "core/scene.h"
+#include "core/sampler.h"
+#include "integrators/path_estimator/hemisphere.h"
+#include "integrators/path_length.h"
+
+namespace lb {
+
+enum class MisHeuristic { None, Balance, Power, OneSample };
+enum class LightChoice { Scene, Uniform, Power, Spatial };
+
+struct PathTracerSettings {
+  DirectionSampling sampling = DirectionSampling::Bsdf;
+  bool nee = true;
+  MisHeuristic mis = MisHeuristic::Power;
+  float lightSelectionProbability = 0.5f;
+  float emissionSelection = 0;  // 0: emission always counted
+  int shadowRays = 1;
+  int firstBounceSamples = 1;
+  LightChoice lightSelection = LightChoice::Scene;
+  bool wavefront = false;  // engine: wavefront (wavefront.h) instead of one ray at a time
+  PathLength length;
+
+  static PathTracerSettings read(Params& p);
+  // Dimensions one vertex of one branch takes (S above), and where its
+  // direction sampling (lobe, direction, roulette) begins.
+  uint32_t vertexStride() const { return 6 + 4 * uint32_t(shadowRays); }
+  uint32_t scatterSlot() const { return 2 + 4 * uint32_t(shadowRays); }
+};
+
+// One-sample MIS weights over (light, BSDF) chosen with probabilities (q, 1 − q):
+// the balance heuristic over c_i p_i (Veach 1997 Eq. 9.15).
+struct OneSampleWeights {
+  float light, bsdf;
+};
+OneSampleWeights oneSampleMisWeights(float q, float lightPdf, float bsdfPdf);
+
+// Where a path is between vertices: the ray to trace and what the vertex it
+// left knows about the direction it chose (for the MIS weight of an emitter
+// that ray may hit).
+struct PathState {
+  Ray ray;
+  Color beta{1.f};
+  float etaScale = 1;            // removes radiance's 1/η² scaling from roulette decisions
+  bool prevDelta = true;         // the camera "bounce" is a delta event: emission counts in full
+  float prevPdf = 0;             // solid-angle pdf of the direction that generated `ray`
+  float prevBsdfCount = 1;       // directions the previous vertex sampled (M at the first)
+  bool prevLightChosen = false;  // one-sample MIS: the previous vertex took the light strategy
+  Vec3 prevPoint{0.f};
+  int vertex = 0;                // the vertex `ray` is about to reach (0: the camera ray's hit)
+  int branch = 0;                // which of the first vertex's M directions this path took
+};
+
+// What a path's vertices share: the scene, the sampler (started for the
+// path's pixel and sample), the length limit and where its dimensions begin.
+struct PathContext {
+  const Scene& scene;
+  Sampler& sampler;
+  int maxDepth;
+  bool firstEmission;
+  uint32_t entryDimension;
+};
+
+// A light sample waiting for its visibility test: `contribution` (weighted,
+// times β) counts if `ray` is unoccluded.
+struct ShadowRequest {
+  Ray ray;
+  Color contribution;
+};
+
+class PathEstimator {
+ public:
+  static constexpr int MaxShadowRays = 64;
+
+  explicit PathEstimator(PathTracerSettings s) : settings_(s) {}
+  // Light selection tables (light_selection: uniform | power | spatial);
+  // `seed` seeds the spatial table's estimates. Without it, the scene's rule.
+  void preprocess(const Scene& scene, uint64_t seed);
+
+  // Radiance arriving along `ray` over paths of at most `maxSegments`
+  // segments. Without `firstEmission`, the emission of the first surface hit
+  // (or of the environment, if the ray escapes) is left out: the caller counts
+  // that light itself (the irradiance cache's records gather only indirect
+  // light). `firstHitDistance`, if given, receives the first hit's distance
+  // (infinity if the ray escapes). The path's dimensions start at
+  // sampler.dimension(); the sampler is left at no particular dimension, so a
+  // caller restarts it (start()) before drawing again.
+  Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
+                         bool firstEmission, float* firstHitDistance = nullptr) const;
+  // A camera path: all of max_depth, emission of the first hit included.
+  Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
+    return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true);
+  }
+
+  // The estimator, one vertex at a time, shared by the single-ray loop and
+  // the wavefront engine (integrators/path/wavefront.h) so both compute the
+  // same thing:
+  //  shadeVertex: what the ray of `s` found (`hit`, `si`): its emission is
+  //    added to L, its light samples are written to `shadows` (their number is
+  //    returned; the caller adds each contribution whose ray is unoccluded);
+  //    `bsdf` is set if the path may go on from `si`.
+  //  scatter: the next direction from the vertex's dimension slots; updates
+  //    `next` (β, pdfs, ray); false if the path ends (absorbed, roulette).
+  int shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
+                  ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
+  bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots) const;
+  // The first dimension of the vertex `s` is about to reach (layout above).
+  uint32_t vertexBase(const PathState& s, const PathContext& c) const {
+    return c.entryDimension +
+           (uint32_t(s.vertex) * uint32_t(settings_.firstBounceSamples) + uint32_t(s.branch)) * settings_.vertexStride();
+  }
+  const PathTracerSettings& settings() const { return settings_; }
+
+ private:
+  Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, float* firstHitDistance) const;
+  float misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const;
+  const Light* chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const;
+  float lightPmf(const Scene& scene, const Vec3& p, const Light* light) const;
+
+  PathTracerSettings settings_;
+  LightSampler ownLights_;                                     // light_selection uniform | power
+  std::shared_ptr<const SpatialLightSampler> spatial_;         // light_selection spatial
+};
+
+}  // namespace lb
