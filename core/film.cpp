@@ -1,4 +1,5 @@
 #include "core/film.h"
+#include <cmath>
 #include <algorithm>
 
 namespace lb {
@@ -73,6 +74,7 @@ Image Film::varianceOfMean() const {
 }
 
 double Film::meanVarianceOfMean() const {
+  if (passesCorrelated_) return std::nan("");
   Image v = varianceOfMean();
   double total = 0;
   for (const Color& c : v.pixels) total += double(c.r) + c.g + c.b;

@@ -70,13 +70,19 @@ class Film {
   // variance is unknown and not included in varianceOfMean().
   void setProgressiveEstimate(std::vector<glm::dvec3> estimate) { progressive_ = std::move(estimate); }
 
+  // Passes that are not independent (a Markov chain's successive mutations,
+  // integrators/mlt/mlt.h): their spread says nothing about the error, so
+  // meanVarianceOfMean() is NaN ("unknown") from then on.
+  void markPassesCorrelated() { passesCorrelated_ = true; }
+  bool passesCorrelated() const { return passesCorrelated_; }
+
   uint64_t samples(int x, int y) const { return count_[index(x, y)]; }
   uint64_t passes() const { return passes_; }
   Image image() const;
   // Per-pixel variance of the pixel estimate, per channel: s²/n for each kind
   // of contribution (an integrator uses one kind).
   Image varianceOfMean() const;
-  double meanVarianceOfMean() const;  // over pixels and channels
+  double meanVarianceOfMean() const;  // over pixels and channels; NaN if passesCorrelated()
 
   // Thread-safe.
   void recordNonFinite(int x, int y, uint64_t sampleIndex);
@@ -91,6 +97,7 @@ class Film {
   std::vector<uint64_t> count_;
   std::vector<glm::dvec3> passSum_, passSumSq_;
   uint64_t passes_ = 0;
+  bool passesCorrelated_ = false;
   std::vector<glm::dvec3> progressive_;
   std::atomic<uint64_t> nonFinite_{0};
   mutable std::mutex recordMutex_;

@@ -35,6 +35,9 @@ class Integrator {
   // before rendering: the render command checks them first (a directory in
   // the way would otherwise be found after the whole render).
   virtual std::vector<std::string> extraOutputPaths(const std::string& /*stem*/) const { return {}; }
+  // Lines for the render's summary about the integrator's own estimates
+  // (MLT's normalisation constant and acceptance rates).
+  virtual std::vector<std::string> summaryLines() const { return {}; }
   // Images that belong in the main EXR as layers (BDPT's per-strategy images).
   virtual std::vector<ExrLayer> extraLayers() const { return {}; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the

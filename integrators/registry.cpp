@@ -5,6 +5,7 @@
 #include "integrators/direct/direct_lighting.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
+#include "integrators/mlt/mlt.h"
 #include "integrators/path/path_tracer.h"
 #include "integrators/photon/photon_integrator.h"
 #include "integrators/sppm/sppm.h"
@@ -36,6 +37,9 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
        [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
        [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
+      {"mlt", "Metropolis light transport in primary sample space: pssmlt (Kelemen 2002, over path or bdpt) or mmlt "
+              "(multiplexed over the (s,t) strategies, Hachisuka 2014)",
+       [](Params& p) { return std::make_unique<Mlt>(MltSettings::read(p)); }, never},
   };
   return table;
 }

@@ -52,6 +52,7 @@ struct RenderedImage {
   std::vector<NonFiniteSample> firstNonFinite;  // to replay with --pixel/--sample
   std::vector<ExrLayer> layers;                 // the AOVs asked for, then the integrator's layers
   std::map<std::string, std::string> attributes;  // the EXR header's lightbench/* metadata
+  std::vector<std::string> integratorSummary;     // the integrator's own estimates (MLT's b), for the summary
 };
 // Loads, renders within the budget and returns the image; throws ConfigError
 // for bad input. args.output and the replay fields are not used.

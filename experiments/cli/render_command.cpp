@@ -120,6 +120,7 @@ void printSummary(const RenderedImage& r) {
   // an equal-time comparison would silently be unequal.
   std::string over = overBudgetMessage(rep);
   if (!over.empty()) std::cerr << "warning: " << over << "\n";
+  for (const std::string& line : r.integratorSummary) std::cerr << line << "\n";
   for (const auto& s : r.firstNonFinite)
     std::cerr << "  non-finite sample: --pixel " << s.x << "," << s.y << " --sample " << s.sampleIndex << "\n";
 }
@@ -231,9 +232,12 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["seconds"] = rep.seconds;
   if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
   resolved["non_finite_samples"] = rep.nonFinite;
+  std::vector<std::string> integratorSummary = job.integrator->summaryLines();
+  for (const std::string& line : integratorSummary) resolved["integrator_summary"].push_back(line);
   YAML::Emitter emitter;
   emitter << resolved;
-  RenderedImage out{film.image(), resolved, std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}};
+  RenderedImage out{film.image(), resolved, std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}, {}};
+  out.integratorSummary = std::move(integratorSummary);
   out.layers = aovLayers(args.aovs, *job.sf.scene, film, args.seed);
   for (ExrLayer& layer : job.integrator->extraLayers()) out.layers.push_back(std::move(layer));
   // The EXR carries what made it: a file copied away from its .config.yaml still says.
