@@ -35,6 +35,9 @@ class Integrator {
   // before rendering: the render command checks them first (a directory in
   // the way would otherwise be found after the whole render).
   virtual std::vector<std::string> extraOutputPaths(const std::string& /*stem*/) const { return {}; }
+  // False for estimators whose passes are correlated (MLT's chains): their
+  // spread over passes is no error estimate, so no variance layer is written.
+  virtual bool independentPasses() const { return true; }
   // Lines for the render's summary about the integrator's own estimates
   // (MLT's normalisation constant and acceptance rates).
   virtual std::vector<std::string> summaryLines() const { return {}; }

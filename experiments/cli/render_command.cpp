@@ -169,6 +169,10 @@ Prepared prepare(const RenderArgs& args) {
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);
   auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
+  if (!integrator->independentPasses() && std::find(args.aovs.begin(), args.aovs.end(), "variance") != args.aovs.end())
+    throw flagError("--aov", "variance: " + choice.name +
+                                 "'s passes are correlated (Markov chains), so their spread is no error estimate; "
+                                 "use independent runs (seeds)");
   return {std::move(sf), std::move(choice), std::move(params), std::move(integrator), nullptr};
 }
 

@@ -7,10 +7,10 @@
 // camera subpath, the light subpath and the connections from three separate
 // streams of its primary sample vector; bdpt passes one sampler for all three,
 // drawn in that order.
-#include <functional>
 #include <vector>
 #include "core/sampler.h"
 #include "integrators/bidirectional/connect.h"
+#include "integrators/bidirectional/subpaths.h"
 #include "integrators/path_length.h"
 
 namespace lb::bidir {
@@ -30,13 +30,29 @@ struct SubpathBuffers {
   void fit(const PathLength& length);  // cheap when already sized for `length`
 };
 
-// Called for each strategy with a non-zero weighted contribution `c.L · c.weight`
-// (possibly non-finite: the caller counts and drops those). For t = 1 the
-// contribution belongs at c.raster, otherwise at the sample's own raster.
-using StrategyCallback = std::function<void(int s, int t, const Connection& c)>;
-
+// Calls onStrategy(s, t, connection) for each strategy with a non-zero
+// weighted contribution `c.L · c.weight` (possibly non-finite: the caller
+// counts and drops those). For t = 1 the contribution belongs at c.raster,
+// otherwise at the sample's own raster. (A template, not std::function: the
+// callback runs once per connection and its captures would be allocated
+// once per pixel.)
+template <typename OnStrategy>
 void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const PathLength& length,
                          MisWeighting mis, Vec2 raster, SubpathBuffers& buffers, uint64_t& rays,
-                         const StrategyCallback& onStrategy);
+                         OnStrategy&& onStrategy) {
+  const int maxSeg = length.maxSegments();
+  int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays);
+  int nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays);
+  // s = 1 samples its own light point, so it runs even when the light
+  // subpath is empty (emission sampling failed).
+  for (int t = 1; t <= nCamera; ++t)
+    for (int s = 0; s <= std::max(nLight, 1); ++s) {
+      int segments = s + t - 1;
+      if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;  // (1,1) is covered by (0,2) (pbrt-v3)
+      Connection c = connect(scene, streams.connection, mis, buffers.light, buffers.camera, s, t, rays);
+      if (isBlack(c.L) || c.weight == 0) continue;
+      onStrategy(s, t, c);
+    }
+}
 
 }  // namespace lb::bidir

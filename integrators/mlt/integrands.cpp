@@ -55,7 +55,9 @@ MultiplexedIntegrand::Choice MultiplexedIntegrand::choose(float uLength, float u
   int k = index + 1;
   int n = strategies(k);
   int s = std::min(int(uStrategy * float(n)), n - 1);
-  return {k, s, k + 1 - s, lengthPmf_[size_t(index)] / float(n)};
+  // The probability the float CDF actually gives this length.
+  float pLength = lengthCdf_[size_t(index)] - (index > 0 ? lengthCdf_[size_t(index - 1)] : 0.f);
+  return {k, s, k + 1 - s, pLength / float(n)};
 }
 
 void MultiplexedIntegrand::evaluate(PrimarySampleVector& u, std::vector<Contribution>& out, uint64_t& rays) const {

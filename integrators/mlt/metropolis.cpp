@@ -97,8 +97,8 @@ MarkovChain::MarkovChain(const PrimarySpaceIntegrand& integrand, const Metropoli
 
 void MarkovChain::splatCurrent(double scale, std::vector<Splat>& splats) {
   if (weight_ > 0 && fCurrent_ > 0) {
-    float w = float(weight_ * scale / fCurrent_);
-    for (const Contribution& c : current_) splats.push_back({c.raster, c.value * w});
+    double w = weight_ * scale / double(fCurrent_);  // in double: f may be tiny
+    for (const Contribution& c : current_) splats.push_back({c.raster, Color(glm::dvec3(c.value) * w)});
   }
   weight_ = 0;
 }
@@ -123,8 +123,8 @@ void MarkovChain::run(uint64_t mutations, double scale, std::vector<Splat>& spla
     // Expected values: the proposal gets a, the current state 1 − a.
     weight_ += 1 - double(a);
     if (a > 0 && fProposed > 0) {
-      float w = float(double(a) * scale / fProposed);
-      for (const Contribution& c : proposed_) splats.push_back({c.raster, c.value * w});
+      double w = double(a) * scale / double(fProposed);
+      for (const Contribution& c : proposed_) splats.push_back({c.raster, Color(glm::dvec3(c.value) * w)});
     }
     if (decisions_.next1D() < a) {
       splatCurrent(scale, splats);

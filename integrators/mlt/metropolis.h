@@ -42,8 +42,10 @@ class PrimarySpaceIntegrand {
   virtual void evaluate(PrimarySampleVector& u, std::vector<Contribution>& out, uint64_t& rays) const = 0;
 };
 
-// f(u): the summed luminance of the contributions (0 if any is not finite:
-// the caller counts those and the state is never accepted).
+// f(u): the summed luminance of the contributions. A proposal with a
+// non-finite contribution is given f = 0 by the chain (and counted), so it
+// is never accepted: a chain only leaves states with f > 0 for states with
+// f > 0 (it starts at one, chosen in proportion to f).
 float targetValue(const std::vector<Contribution>& c);
 
 // Metropolis-Hastings acceptance for a symmetric kernel: min(1, f(y)/f(x)),

@@ -44,13 +44,23 @@ MltSettings MltSettings::read(Params& p) {
                                  "contribution (mixed 9:1 with uniform), or uniformly") == "pilot";
     p.setCondition("");
   }
-  std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"},
-                                "MIS heuristic over the (s,t) strategies (base: bdpt and mmlt)");
-  using bidir::MisWeighting;
-  s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
+  bool mmlt = s.mode == MltSettings::Mode::Mmlt;
+  if (mmlt || s.base == MltSettings::Base::Bdpt || p.describing()) {
+    p.setCondition("base: bdpt or mode: mmlt");
+    std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"},
+                                  "MIS heuristic over the (s,t) strategies");
+    using bidir::MisWeighting;
+    s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
+    p.setCondition("");
+  }
+  // mmlt builds each strategy's subpaths to the chosen length: roulette keys
+  // would be read and ignored, so they are refused.
+  if (mmlt && !p.describing())
+    for (const char* key : {"rr", "rr_depth"})
+      if (p.has(key)) p.fail(key, "mode: mmlt builds subpaths of the chosen length without Russian roulette");
   s.length = PathLength::read(p);
-  if (s.mode == MltSettings::Mode::Mmlt && s.length.maxDepth < 0)
-    p.fail("max_depth", "mode: mmlt picks a path length in [1, max_depth]: give a finite max_depth");
+  if (mmlt && s.length.maxDepth < 1)
+    p.fail("max_depth", "mode: mmlt picks a path length in [1, max_depth]: give a finite max_depth of at least 1");
   p.checkUnused();
   return s;
 }
@@ -138,9 +148,10 @@ std::vector<std::string> Mlt::summaryLines() const {
   char line[300];
   std::vector<std::string> lines;
   std::snprintf(line, sizeof line,
-                "mlt: normalisation b = %.6g, relative standard error %.3g %% (%llu bootstrap samples, %llu non-zero)",
+                "mlt: normalisation b = %.6g, relative standard error %.3g %% (%llu bootstrap samples, %llu non-zero, "
+                "%llu non-finite and dropped)",
                 bootstrap_.b, 100 * bootstrap_.relativeStandardError, (unsigned long long)bootstrap_.samples,
-                (unsigned long long)bootstrap_.nonZero);
+                (unsigned long long)bootstrap_.nonZero, (unsigned long long)bootstrap_.nonFinite);
   lines.push_back(line);
   mlt::ChainStats s = chainStats();
   auto rate = [](uint64_t a, uint64_t n) { return n > 0 ? 100.0 * double(a) / double(n) : 0.0; };

@@ -83,6 +83,7 @@ class Mlt final : public Integrator {
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<std::string> summaryLines() const override;
+  bool independentPasses() const override { return false; }
 
   const mlt::Bootstrap& bootstrap() const { return bootstrap_; }
   mlt::ChainStats chainStats() const;

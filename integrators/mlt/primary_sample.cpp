@@ -25,10 +25,11 @@ float perturbRepeatedly(float x, uint64_t n, const SmallStep& step, Pcg32& rng) 
     return x;
   }
   // The sum of n > 32 offsets, wrapped: a normal of deviation √n·σ₁ by the
-  // central limit theorem (Box-Muller). It is not the exact n-fold kernel but
-  // it is symmetric, so Metropolis-Hastings still holds (the acceptance needs
-  // only T(x→y) = T(y→x)); and once that deviation reaches 1 the wrapped
-  // normal is uniform to within 2·exp(−2π²) ≈ 5e-9, so it is drawn uniformly.
+  // central limit theorem (Box-Muller). An approximation of the n-fold
+  // kernel, close: one offset's excess kurtosis is about −0.2, so the sum's
+  // is −0.2/n (−0.006 at n = 33); tested against the composed steps. Once the
+  // deviation reaches 1 the wrapped normal is uniform to within
+  // 2·exp(−2π²) ≈ 5e-9, so it is drawn uniformly.
   double sigma = std::sqrt(double(n)) * double(step.stepDeviation());
   if (sigma >= 1) return rng.next1D();
   double u1 = 1.0 - double(rng.next1D()), u2 = rng.next1D();

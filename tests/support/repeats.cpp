@@ -38,6 +38,10 @@ SeedMeans seedMeans(const SceneFile& sf, const IntegratorUnderTest& it, int seed
     Rendered r = renderWith(sf, it, first + uint64_t(s), extra);
     out.nonFinite += r.report.nonFinite;
     RegionMeans m = regionMeans(*r.film, rx, ry);
+    Image image = r.film->image();
+    double sum = 0;
+    for (const Color& c : image.pixels) sum += double(luminance(c));
+    out.imageLuminance.add(sum / double(image.pixels.size()));
     for (size_t i = 0; i < stats.size(); ++i) stats[i].add(m.mean[i]);
   }
   out.regions.regionsX = rx, out.regions.regionsY = ry;

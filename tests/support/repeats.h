@@ -33,6 +33,7 @@ Rendered renderWith(const SceneFile& scene, const IntegratorUnderTest& integrato
 // Region means averaged over `seeds` independent renders (seeds first, first+1, …).
 struct SeedMeans {
   RegionMeans regions;  // mean of the per-seed means; varianceOfMean from their spread
+  RunningStats imageLuminance;  // each seed's mean luminance over the whole image
   int seeds = 0;
   uint64_t nonFinite = 0;
 };
