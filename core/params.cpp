@@ -113,7 +113,10 @@ std::vector<float> Params::getFloatList(const std::string& key, size_t count) {
 namespace {
 std::string number(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
+  // Whole numbers in full ("100000000", not "1e+08"), so an integer key's
+  // listed range reads back as an integer.
+  if (v == std::floor(v) && std::abs(v) < 1e15) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 }  // namespace

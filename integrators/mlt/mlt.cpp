@@ -45,19 +45,17 @@ MltSettings MltSettings::read(Params& p) {
     p.setCondition("");
   }
   bool mmlt = s.mode == MltSettings::Mode::Mmlt;
+  // Read for base: bdpt and for mode: mmlt; listed under the first.
   if (mmlt || s.base == MltSettings::Base::Bdpt || p.describing()) {
-    p.setCondition("base: bdpt or mode: mmlt");
+    p.setCondition("base: bdpt");
     std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"},
-                                  "MIS heuristic over the (s,t) strategies");
+                                  "MIS heuristic over the (s,t) strategies (also with mode: mmlt)");
     using bidir::MisWeighting;
     s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
     p.setCondition("");
   }
-  // mmlt builds each strategy's subpaths to the chosen length: roulette keys
-  // would be read and ignored, so they are refused.
-  if (mmlt && !p.describing())
-    for (const char* key : {"rr", "rr_depth"})
-      if (p.has(key)) p.fail(key, "mode: mmlt builds subpaths of the chosen length without Russian roulette");
+  // (mode: mmlt builds each strategy's subpaths to the chosen length, without
+  // roulette: rr and rr_depth apply to pssmlt's base estimators only.)
   s.length = PathLength::read(p);
   if (mmlt && s.length.maxDepth < 1)
     p.fail("max_depth", "mode: mmlt picks a path length in [1, max_depth]: give a finite max_depth of at least 1");

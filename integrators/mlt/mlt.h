@@ -21,7 +21,8 @@
 //                                    sample chosen in proportion to f
 //   max_depth, rr, rr_depth          path length (path_length.h); mmlt needs a
 //                                    finite max_depth and builds each strategy's
-//                                    subpaths to their chosen length, without roulette
+//                                    subpaths to their chosen length, without
+//                                    roulette (rr, rr_depth apply to pssmlt only)
 //   mis                     power    BDPT's heuristic (base: bdpt, mmlt)
 //   length_selection        pilot    mmlt: how the control picks the path length k:
 //                                    uniform in [1, max_depth], or (pilot) in

@@ -160,8 +160,8 @@ TEST(Mlt, RefusesKeysItWouldIgnoreAndLengthsItCannotChoose) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("max_depth"), std::string::npos) << e.what();
   }
-  // base belongs to pssmlt; mmlt has no roulette; a length of 0 has no strategies.
-  for (const char* yaml : {"{mode: mmlt, base: bdpt}", "{mode: mmlt, rr: false}", "{mode: mmlt, max_depth: 0}",
+  // base belongs to pssmlt, mis to BDPT's strategies; a length of 0 has none.
+  for (const char* yaml : {"{mode: mmlt, base: bdpt}", "{mode: mmlt, max_depth: 0}",
                            "{mode: pssmlt, base: path, mis: balance}"}) {
     YAML::Node node = YAML::Load(yaml);
     Params q(node, "x.yaml", "integrator");

@@ -70,7 +70,9 @@ TEST(IntegratorKeys, EveryListedRangeIsEnforcedAtItsEnds) {
       double step = k.type == "integer" ? 1 : 1e-3;
       auto check = [&](double value, bool ok) {
         std::ostringstream yaml;
-        yaml << conditionYaml(k) << k.key << ": " << value;
+        yaml << conditionYaml(k) << k.key << ": ";
+        if (k.type == "integer") yaml << (long long)value;  // in full: 100000000, not 1e+08
+        else yaml << value;
         // Keys checked against each other (max_spacing >= min_spacing) are
         // given room on the other side.
         if (k.key == "max_spacing") yaml << "\nmin_spacing: 0";
@@ -109,8 +111,9 @@ TEST(IntegratorKeys, AnUnknownKeyIsRefusedNamingTheValidOnes) {
     std::string key = integratorKeys(e.name).front().key;
     std::string err = tryCreate(e.name, key + "x: 3");  // a typo of a real key
     EXPECT_NE(err.find("did you mean '" + key + "'"), std::string::npos) << e.name << ": " << err;
-    for (const auto& k : integratorKeys(e.name))
+    for (const auto& k : integratorKeys(e.name)) {
       if (k.condition.empty()) EXPECT_NE(err.find(k.key), std::string::npos) << e.name << " does not list " << k.key;
+    }
   }
 }
 

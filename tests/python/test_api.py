@@ -91,13 +91,20 @@ def test_integrator_keys_are_what_the_reader_accepts(small_scene):
     assert keys["alpha"]["allowed"] == "(0, 1)" and keys["alpha"]["default"] == "0.7"
     # Every listed key is accepted with its listed default (an unlisted key
     # is not: the test above).
+    # Keys read only under a condition ("base: photon") are given with it, one
+    # render per condition (mlt's pssmlt and mmlt keys exclude each other).
     for name in lightbench.integrators():
-        params = {k["key"]: typed(k) for k in lightbench.integrator_keys(name)}
-        if name == "irradiance_cache":  # its photon-map keys are read only with base: photon
-            params["base"] = "photon"
-        params.update(max_depth=3, global_photons=1000, caustic_photons=1000, photons_per_pass=1000)
-        params = {k: v for k, v in params.items() if k in {d["key"] for d in lightbench.integrator_keys(name)}}
-        lightbench.render(small_scene, integrator=name, params=params, spp=1)
+        keys = lightbench.integrator_keys(name)
+        for condition in sorted({k["condition"] for k in keys}):
+            params = {k["key"]: typed(k) for k in keys if k["condition"] in ("", condition)}
+            if condition:
+                key, value = (part.strip() for part in condition.split(":"))
+                params[key] = value
+            params.update(max_depth=3, global_photons=1000, caustic_photons=1000, photons_per_pass=1000,
+                          bootstrap_samples=1000)
+            group = {d["key"] for d in keys if d["condition"] in ("", condition)}
+            params = {k: v for k, v in params.items() if k in group or (condition and k == key)}
+            lightbench.render(small_scene, integrator=name, params=params, spp=1)
 
 
 def make_experiment(tmp_path, small_scene):
