@@ -112,7 +112,9 @@ TEST(IntegratorKeys, AnUnknownKeyIsRefusedNamingTheValidOnes) {
     std::string err = tryCreate(e.name, key + "x: 3");  // a typo of a real key
     EXPECT_NE(err.find("did you mean '" + key + "'"), std::string::npos) << e.name << ": " << err;
     for (const auto& k : integratorKeys(e.name)) {
-      if (k.condition.empty()) EXPECT_NE(err.find(k.key), std::string::npos) << e.name << " does not list " << k.key;
+      if (k.condition.empty()) {
+        EXPECT_NE(err.find(k.key), std::string::npos) << e.name << " does not list " << k.key;
+      }
     }
   }
 }
