@@ -3,6 +3,7 @@
 #include <sstream>
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct_lighting.h"
+#include "integrators/guided/guided.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
 #include "integrators/mlt/mlt.h"
@@ -37,6 +38,9 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
        [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
        [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
+      {"guided", "path tracing guided by learned directions: Q-learning (Dahm & Keller 2017) or an SD-tree "
+                 "(Müller et al. 2017), mixed with BSDF sampling",
+       [](Params& p) { return std::make_unique<GuidedPathTracer>(GuidedSettings::read(p)); }, always},
       {"mlt", "Metropolis light transport in primary sample space: pssmlt (Kelemen 2002, over path or bdpt) or mmlt "
               "(multiplexed over the (s,t) strategies, Hachisuka 2014)",
        [](Params& p) { return std::make_unique<Mlt>(MltSettings::read(p)); }, never},

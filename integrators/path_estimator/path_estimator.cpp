@@ -5,13 +5,15 @@
 
 namespace lb {
 
-PathTracerSettings PathTracerSettings::read(Params& p) {
+PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
   PathTracerSettings s;
-  std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"},
-                                     "how the next direction is sampled at a surface");
-  s.sampling = sampling == "bsdf" ? DirectionSampling::Bsdf
-               : sampling == "cosine" ? DirectionSampling::Cosine
-                                      : DirectionSampling::Uniform;
+  if (directionKeys) {
+    std::string sampling = p.getChoice("sampling", "bsdf", {"bsdf", "cosine", "uniform"},
+                                       "how the next direction is sampled at a surface");
+    s.sampling = sampling == "bsdf" ? DirectionSampling::Bsdf
+                 : sampling == "cosine" ? DirectionSampling::Cosine
+                                        : DirectionSampling::Uniform;
+  }
   s.nee = p.getBool("nee", true, "next-event estimation: shadow rays to sampled light points at each vertex");
   std::string mis = p.getChoice("mis", "power", {"power", "balance", "none", "one_sample"},
                                 "weights of NEE against the sampled direction hitting a light (Veach 1997, 9.2); "
@@ -28,8 +30,9 @@ PathTracerSettings PathTracerSettings::read(Params& p) {
       {"emit vs reflect: at an emitter the path ends, counting its emission, with this probability (0: off)",
        Range{0.0, 1.0, false, true}});
   s.shadowRays = p.getInt("shadow_rays", 1, {"light samples (shadow rays) per vertex", Range::between(1, 64)});
-  s.firstBounceSamples = p.getInt("first_bounce_samples", 1,
-                                  {"directions sampled at the first vertex, each traced on", Range::between(1, 64)});
+  if (directionKeys)
+    s.firstBounceSamples = p.getInt("first_bounce_samples", 1,
+                                    {"directions sampled at the first vertex, each traced on", Range::between(1, 64)});
   std::string lights = p.getChoice(
       "light_selection", "scene", {"scene", "uniform", "power", "spatial"},
       "which light NEE samples: the scene's rule, uniformly, by power, or by a per-voxel estimate of contribution");
@@ -37,9 +40,10 @@ PathTracerSettings PathTracerSettings::read(Params& p) {
                      : lights == "uniform" ? LightChoice::Uniform
                      : lights == "power"   ? LightChoice::Power
                                            : LightChoice::Spatial;
-  s.wavefront = p.getChoice("engine", "single_ray", {"single_ray", "wavefront"},
-                            "one path at a time, or all of a batch's rays in Embree streams (wavefront.h)") ==
-                "wavefront";
+  if (directionKeys)
+    s.wavefront = p.getChoice("engine", "single_ray", {"single_ray", "wavefront"},
+                              "one path at a time, or all of a batch's rays in Embree streams (wavefront.h)") ==
+                  "wavefront";
   s.length = PathLength::read(p);
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
@@ -191,8 +195,11 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   const BSDF& bsdf = bsdfOut.emplace(si);
   bool delta = bsdf.isDelta();
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !delta;
+  bool guided = c.guide && c.guide->prepare(si, bsdf);
   float bsdfCount = s.vertex == 0 ? float(settings_.firstBounceSamples) : 1.f;
+  // The density with which scatter() would have drawn a light sample's direction.
   auto scatterPdf = [&](const DirectLightSample& d) {
+    if (guided) return c.guide->mixturePdf(d.bsdfPdf, d.wi);
     return hemisphere ? hemispherePdf(settings_.sampling, bsdf, si.wo, d.wi) : d.bsdfPdf;
   };
   // Light sample (shadow ray) i at this vertex: slots 2 + 4i … 5 + 4i.
@@ -232,23 +239,41 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
 }
 
 bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler,
-                         uint32_t slots) const {
+                         uint32_t slots, const DirectionGuide* guide) const {
   const int segments = next.vertex + 1;
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !bsdf.isDelta();
   sampler.setDimension(slots + settings_.scatterSlot());
   float uLobe = sampler.get1D();
   Vec2 uDir = sampler.get2D();
   Vec3 wi;
-  if (hemisphere) {
-    DirectionChoice d = sampleHemisphere(settings_.sampling, bsdf, si.wo, uLobe, uDir);
-    BSDFEval e = bsdf.eval(si.wo, d.wi, TransportMode::Radiance);
-    if (d.pdf == 0 || isBlack(e.f)) return false;
-    next.beta *= e.f * absDot(d.wi, bsdf.shadingNormal()) / d.pdf;
-    if (glm::dot(d.wi, si.ng) * glm::dot(si.wo, si.ng) < 0)
+  // A direction drawn by some other density than the BSDF's own sampling:
+  // f·|cos θ| / pdf, evaluated for it.
+  auto takeDirection = [&](const Vec3& d, float pdf) {
+    BSDFEval e = bsdf.eval(si.wo, d, TransportMode::Radiance);
+    if (!(pdf > 0) || isBlack(e.f)) return false;
+    next.beta *= e.f * absDot(d, bsdf.shadingNormal()) / pdf;
+    if (glm::dot(d, si.ng) * glm::dot(si.wo, si.ng) < 0)
       next.etaScale *= sqr(bsdf.material().relativeEta(bsdf.frame().toLocal(si.wo)));
-    wi = d.wi;
-    next.prevPdf = d.pdf;
+    wi = d;
+    next.prevPdf = pdf;
     next.prevDelta = false;
+    return true;
+  };
+  if (guide && guide->active()) {
+    // One-sample mixture (direction_guide.h): either component may draw the
+    // direction; its weight uses the mixture's density.
+    float c = guide->bsdfFraction();
+    if (uLobe < c) {
+      auto bs = bsdf.sample(si.wo, std::min(uLobe / c, OneMinusEpsilon), uDir, TransportMode::Radiance);
+      if (!bs) return false;
+      wi = bs->wi;
+    } else {
+      wi = guide->sample(uDir);
+    }
+    if (!takeDirection(wi, guide->mixturePdf(bsdf.pdf(si.wo, wi), wi))) return false;
+  } else if (hemisphere) {
+    DirectionChoice d = sampleHemisphere(settings_.sampling, bsdf, si.wo, uLobe, uDir);
+    if (!takeDirection(d.wi, d.pdf)) return false;
   } else {
     auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Radiance);
     if (!bs) return false;

@@ -55,6 +55,7 @@
 #include "core/spatial_light_sampler.h"
 #include "core/scene.h"
 #include "core/sampler.h"
+#include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
 #include "integrators/path_length.h"
 
@@ -75,7 +76,10 @@ struct PathTracerSettings {
   bool wavefront = false;  // engine: wavefront (wavefront.h) instead of one ray at a time
   PathLength length;
 
-  static PathTracerSettings read(Params& p);
+  // Without `directionKeys`, the keys that change how directions are drawn
+  // (sampling, first_bounce_samples, engine) are not read, so not accepted:
+  // the guided integrator draws its own (integrators/guided/guided.h).
+  static PathTracerSettings read(Params& p, bool directionKeys = true);
   // Dimensions one vertex of one branch takes (S above), and where its
   // direction sampling (lobe, direction, roulette) begins.
   uint32_t vertexStride() const { return 6 + 4 * uint32_t(shadowRays); }
@@ -106,13 +110,16 @@ struct PathState {
 };
 
 // What a path's vertices share: the scene, the sampler (started for the
-// path's pixel and sample), the length limit and where its dimensions begin.
+// path's pixel and sample), the length limit and where its dimensions begin;
+// and, for the `guided` integrator, the learned direction distribution
+// (direction_guide.h), which shadeVertex prepares at each vertex.
 struct PathContext {
   const Scene& scene;
   Sampler& sampler;
   int maxDepth;
   bool firstEmission;
   uint32_t entryDimension;
+  DirectionGuide* guide = nullptr;
 };
 
 // A light sample waiting for its visibility test: `contribution` (weighted,
@@ -155,9 +162,14 @@ class PathEstimator {
   //    `bsdf` is set if the path may go on from `si`.
   //  scatter: the next direction from the vertex's dimension slots; updates
   //    `next` (β, pdfs, ray); false if the path ends (absorbed, roulette).
+  //    With a `guide` that shadeVertex prepared (and found active), the
+  //    direction comes from its mixture with the BSDF: the lobe number picks
+  //    the component (below bsdf_fraction: the BSDF, rescaled as its lobe
+  //    number), the 2-D number places the direction.
   int shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
                   ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
-  bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots) const;
+  bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots,
+               const DirectionGuide* guide = nullptr) const;
   // The first dimension of the vertex `s` is about to reach (layout above).
   uint32_t vertexBase(const PathState& s, const PathContext& c) const {
     return c.entryDimension +

@@ -35,7 +35,8 @@ TEST(IntegratorKeys, EveryIntegratorListsKeysWithMeaningAndType) {
     EXPECT_FALSE(keys.empty()) << e.name;
     for (const auto& k : keys) {
       EXPECT_FALSE(k.meaning.empty()) << e.name << "." << k.key << " has no meaning";
-      EXPECT_TRUE(k.type == "number" || k.type == "integer" || k.type == "bool" || k.type == "choice")
+      EXPECT_TRUE(k.type == "number" || k.type == "integer" || k.type == "bool" || k.type == "choice" ||
+                  k.type == "string")
           << e.name << "." << k.key << ": " << k.type;
     }
   }

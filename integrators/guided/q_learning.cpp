@@ -1,0 +1,162 @@
+#include "integrators/guided/q_learning.h"
+#include <algorithm>
+#include <cstdio>
+#include "integrators/guided/sphere_map.h"
+
+namespace lb::guiding {
+
+namespace {
+
+// The distribution at one vertex: the cell's Q times |cos θ| over the bins on
+// the sides the BSDF scatters to, as a cumulative table (q_learning.h).
+class QGuide final : public DirectionGuide {
+ public:
+  QGuide(const QLearning& table, float bsdfFraction)
+      : DirectionGuide(bsdfFraction), table_(table), cdf_(size_t(table.bins())) {}
+
+  float pdf(const Vec3& wi) const override {
+    int k = table_.binOf(wi);
+    float w = cdf_[size_t(k)] - (k > 0 ? cdf_[size_t(k) - 1] : 0.f);
+    return w / total_ * float(table_.bins()) / FourPi;
+  }
+
+  Vec3 sample(Vec2 u) const override {
+    float target = u.x * total_;
+    // The first bin whose cumulative weight exceeds the target has weight > 0;
+    // if rounding put the target at the total, the last bin of weight > 0.
+    int k = int(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
+    if (k == table_.bins())
+      for (k = table_.bins() - 1; k > 0 && cdf_[size_t(k)] == cdf_[size_t(k) - 1];) --k;
+    float before = k > 0 ? cdf_[size_t(k) - 1] : 0.f;
+    float inBin = std::clamp((target - before) / (cdf_[size_t(k)] - before), 0.f, OneMinusEpsilon);
+    int row = k / table_.cols(), col = k % table_.cols();
+    return directionFromSquare({(float(row) + inBin) / float(table_.rows()), (float(col) + u.y) / float(table_.cols())});
+  }
+
+  // Σ_k Q_k |cos θ_k| over the bins the BSDF reaches: the sampling weights' total.
+  float weightTotal() const { return total_; }
+  int cell() const { return cell_; }
+  int orientation() const { return orientation_; }
+
+ protected:
+  bool prepareAt(const SurfaceInteraction& si, const BSDF& bsdf) override {
+    cell_ = table_.cellOf(si.p);
+    orientation_ = orientationClass(si);
+    const float* q = table_.q(cell_, orientation_);
+    if (!q) return false;
+    const Vec3& n = bsdf.shadingNormal();
+    float side = glm::dot(si.wo, n) >= 0 ? 1.f : -1.f;
+    bool transmits = bsdf.material().hasTransmission();
+    float sum = 0;
+    for (int k = 0; k < table_.bins(); ++k) {
+      float cosine = side * glm::dot(table_.binCenter(k), n);
+      if (cosine > 0 || transmits) sum += q[k] * std::abs(cosine);
+      cdf_[size_t(k)] = sum;
+    }
+    total_ = sum;
+    return total_ > 0;
+  }
+
+ private:
+  const QLearning& table_;
+  std::vector<float> cdf_;
+  float total_ = 0;
+  int cell_ = 0, orientation_ = 0;
+};
+
+}  // namespace
+
+QLearning::QLearning(const Bounds3& b, QLearningSettings s) : lo_(b.lo), rows_(s.rows), cols_(2 * s.rows) {
+  Vec3 extent = glm::max(b.hi - b.lo, Vec3(1e-6f));
+  float longest = std::max({extent.x, extent.y, extent.z});
+  for (int a = 0; a < 3; ++a) res_[a] = std::max(1, int(std::lround(float(s.gridResolution) * extent[a] / longest)));
+  cellSize_ = extent / Vec3(float(res_[0]), float(res_[1]), float(res_[2]));
+  for (int k = 0; k < bins(); ++k)
+    centers_.push_back(directionFromSquare({(float(k / cols_) + 0.5f) / float(rows_), (float(k % cols_) + 0.5f) / float(cols_)}));
+  slot_.assign(size_t(res_[0]) * size_t(res_[1]) * size_t(res_[2]) * OrientationClasses, -1);
+}
+
+size_t QLearning::tableOf(int cell, int orientation) {
+  int32_t& slot = slot_[size_t(cell) * OrientationClasses + size_t(orientation)];
+  if (slot < 0) {
+    slot = int32_t(q_.size() / size_t(bins()));
+    q_.resize(q_.size() + size_t(bins()), 0.f);
+    visits_.resize(q_.size(), 0);
+  }
+  return size_t(slot);
+}
+
+int QLearning::cellOf(const Vec3& p) const {
+  int i[3];
+  for (int a = 0; a < 3; ++a) i[a] = std::clamp(int((p[a] - lo_[a]) / cellSize_[a]), 0, res_[a] - 1);
+  return (i[2] * res_[1] + i[1]) * res_[0] + i[0];
+}
+
+int QLearning::binOf(const Vec3& w) const {
+  Vec2 c = squareFromDirection(w);
+  return std::min(int(c.x * float(rows_)), rows_ - 1) * cols_ + std::min(int(c.y * float(cols_)), cols_ - 1);
+}
+
+void QLearning::setQ(int cell, int orientation, const std::vector<float>& values) {
+  size_t table = tableOf(cell, orientation);
+  std::copy(values.begin(), values.end(), q_.begin() + std::ptrdiff_t(table * size_t(bins())));
+}
+
+std::unique_ptr<DirectionGuide> QLearning::makeGuide(float bsdfFraction) const {
+  return std::make_unique<QGuide>(*this, bsdfFraction);
+}
+
+// (4π/n) Σ_k f(−ω → ω_k) |cos θ_k| Q(y, ω_k): the Bellman target's integral.
+float QLearning::scatteredValue(const DirectionGuide& guide, const SurfaceInteraction& y, const BSDF& bsdf) const {
+  const auto& g = static_cast<const QGuide&>(guide);
+  if (!g.active()) return 0;  // nothing learned at y (or a delta BSDF)
+  float binArea = FourPi / float(bins());
+  bool lambertian = bsdf.flags() == (BSDFReflection | BSDFDiffuse);
+  if (lambertian)  // f is constant: the sampling weights' total is Σ Q |cos|
+    return binArea * g.weightTotal() * luminance(bsdf.eval(y.wo, bsdf.shadingNormal(), TransportMode::Radiance).f);
+  const float* qy = q(g.cell(), g.orientation());
+  float sum = 0;
+  for (int k = 0; k < bins(); ++k)
+    if (qy[k] > 0)
+      sum += qy[k] * luminance(bsdf.eval(y.wo, centers_[size_t(k)], TransportMode::Radiance).f) *
+             absDot(centers_[size_t(k)], bsdf.shadingNormal());
+  return binArea * sum;
+}
+
+void QLearning::learn(const TileRecords& records) {
+  for (const auto& tile : records)
+    for (const GuideVertex& v : tile) {
+      size_t i = tableOf(cellOf(v.p), v.orientation) * size_t(bins()) + size_t(binOf(v.wi));
+      float target = v.emitted + v.scattered;
+      if (!std::isfinite(target)) continue;
+      // α = 1 / (1 + visits): the running mean of the targets.
+      q_[i] += (target - q_[i]) / float(++visits_[i]);
+      ++updates_;
+    }
+}
+
+std::vector<std::string> QLearning::statistics() const {
+  size_t cells = size_t(res_[0]) * size_t(res_[1]) * size_t(res_[2]), tables = q_.size() / size_t(bins());
+  char line[240];
+  std::snprintf(line, sizeof line,
+                "q-learning: grid %d x %d x %d, %d bins per table, %zu tables learned (of %zu cells x %d orientations), "
+                "%llu updates",
+                res_[0], res_[1], res_[2], bins(), tables, cells, OrientationClasses, (unsigned long long)updates_);
+  return {line};
+}
+
+Image QLearning::densityImage(const Vec3& p, int orientation, int height) const {
+  Image img(2 * height, height);
+  const float* qp = q(cellOf(p), orientation);
+  float total = 0;
+  for (int k = 0; qp && k < bins(); ++k) total += qp[k];
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < 2 * height; ++x) {
+      Vec2 c{(float(y) + 0.5f) / float(height), (float(x) + 0.5f) / float(2 * height)};
+      int k = binOf(directionFromSquare(c));
+      img.at(x, y) = Color(total > 0 ? qp[k] / total * float(bins()) / FourPi : 0.f);
+    }
+  return img;
+}
+
+}  // namespace lb::guiding

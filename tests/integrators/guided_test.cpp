@@ -1,0 +1,205 @@
+// The `guided` integrator (issue 18): both learning methods estimate the same
+// image as the path tracer (guiding changes the variance, never the mean), the
+// mixture's density is the density its sampling follows for trained
+// distributions, and images do not depend on the thread count. The learned
+// structures themselves (the quadtree) are tested in guided_quadtree_test.cpp.
+#include <gtest/gtest.h>
+#include <cmath>
+#include <functional>
+#include "core/error.h"
+#include "integrators/guided/guided.h"
+#include "integrators/guided/sphere_map.h"
+#include "integrators/registry.h"
+#include "integrators/render_loop.h"
+#include "tests/support/render_helpers.h"
+#include "tests/support/repeats.h"
+#include "tests/support/statistics.h"
+
+namespace lb::test {
+namespace {
+
+constexpr double Alpha = 1e-3;
+
+// Small enough for CI, large enough that the guide is used: at 24×24 the
+// paper's split threshold (12000 records) would leave one spatial leaf, so
+// the tests split at 300 and train 6 iterations (63 spp); Q-learning's grid
+// is 8 cells long.
+const char* const Methods[][2] = {
+    {"sdtree", "{method: sdtree, spatial_threshold: 300, training_iterations: 6}"},
+    {"qlearning", "{method: qlearning, grid_resolution: 8}"},
+};
+
+// Region means over independent runs (each with its own training, so the
+// learned distribution's randomness is part of the spread), against the path
+// tracer's, by Welch t-tests (tests/support/repeats.h); and the whole image's
+// mean luminance, with the check that the comparison could see an error of
+// `detectable` (relative) with probability 0.9. The sharp test of the
+// mixture is the χ² below; these show the whole estimator's mean unchanged.
+void expectAgreementWithPath(const char* scene, int w, int h, uint64_t spp, double detectable) {
+  const std::string extra = "{}";
+  const int Seeds = 12, Regions = 2;
+  SceneFile sf = loadShippedScene(scene, w, h);
+  SeedMeans path = seedMeans(sf, {"path", "{}", spp}, Seeds, Regions, Regions, 300, extra);
+  for (const auto& m : Methods) {
+    SeedMeans guided = seedMeans(sf, {"guided", m[1], spp}, Seeds, Regions, Regions, 700, extra);
+    EXPECT_EQ(guided.nonFinite, 0u) << m[0];
+    std::string failures = compareSeedMeans(guided, path, Alpha, Regions * Regions * 3 * 2);
+    EXPECT_TRUE(failures.empty()) << scene << ", " << m[0] << ":" << failures;
+    const RunningStats& a = guided.imageLuminance;
+    const RunningStats& r = path.imageLuminance;
+    double se = std::sqrt(a.varianceOfMean() + r.varianceOfMean());
+    double bound = studentCritical(sidak(Alpha, 2), Seeds - 1) * se;
+    std::cout << scene << " " << m[0] << ": mean luminance " << a.mean << " vs path " << r.mean << ", bound ±" << bound
+              << " (" << 100 * bound / r.mean << " %)\n";
+    EXPECT_LE(std::abs(a.mean - r.mean), bound) << scene << ", " << m[0];
+    EXPECT_LE(bound + normalCritical(0.2) * se, detectable * r.mean)
+        << scene << ", " << m[0] << ": too noisy to see " << 100 * detectable << " %";
+  }
+}
+
+TEST(Guided, AgreesWithPathOnTheCornellBox) { expectAgreementWithPath("cornell-box", 24, 24, 256, 0.05); }
+TEST(Guided, AgreesWithPathOnVeachsMisScene) { expectAgreementWithPath("veach-mis", 32, 20, 512, 0.075); }
+TEST(Guided, AgreesWithPathOnTheNarrowDoorScene) { expectAgreementWithPath("door-narrow", 32, 24, 1024, 0.075); }
+
+// A sampler that hands out given numbers: the lobe choice, the 2-D direction
+// number, then 0.5 for anything else (roulette is off in these tests).
+class GivenNumbers final : public Sampler {
+ public:
+  void set(float uLobe, Vec2 u) { values_[0] = uLobe, values_[1] = u.x, values_[2] = u.y, next_ = 0; }
+  void start(uint64_t, uint64_t) override { next_ = 0; }
+  float get1D() override { return next_ < 3 ? values_[next_++] : 0.5f; }
+  Vec2 get2D() override {
+    float a = get1D();
+    return {a, get1D()};
+  }
+  std::unique_ptr<Sampler> clone() const override { return std::make_unique<GivenNumbers>(*this); }
+  uint64_t seed() const override { return 0; }
+
+ private:
+  float values_[3] = {0, 0, 0};
+  int next_ = 0;
+};
+
+// A trained integrator: the SD-tree's preprocess, or Q-learning's passes.
+std::unique_ptr<GuidedPathTracer> trained(const SceneFile& sf, const std::string& params, int passes) {
+  YAML::Node node = YAML::Load(params);
+  Params p(node, "test.yaml", "integrator");
+  auto integrator = std::make_unique<GuidedPathTracer>(GuidedSettings::read(p));
+  IndependentSampler sampler(11);
+  integrator->preprocess(*sf.scene, sampler);
+  Film film(sf.scene->camera.width(), sf.scene->camera.height());
+  PassStats stats;
+  for (int i = 0; i < passes; ++i) integrator->renderPass(*sf.scene, film, sampler, uint64_t(i), stats);
+  return integrator;
+}
+
+// χ² over the equal-area square of sphere_map.h, in 64 × 64 cells plus one
+// for missing samples. Both guides' densities are constant on dyadic squares
+// of it (Q's bins; quadtree leaves, at most 10 levels deep here), and the
+// Cornell box's walls are axis-aligned, so their horizons are cell edges
+// too: a 16 × 16 midpoint sum per cell integrates the guide exactly and the
+// smooth BSDF density to high order. Missing samples must match the mass
+// 1 − ∫ pdf, so a density with too much or too little mass fails.
+Chi2Result squareHistogramTest(const std::function<std::optional<Vec3>(Vec2, float)>& sample,
+                               const std::function<double(const Vec3&)>& pdf, size_t samples, uint64_t seed) {
+  const int Cells = 64, Sub = 16, Fine = Cells * Sub;
+  std::vector<double> expected(Cells * Cells + 1, 0), observed(Cells * Cells + 1, 0);
+  double total = 0;
+  for (int y = 0; y < Fine; ++y)
+    for (int x = 0; x < Fine; ++x) {
+      Vec3 w = guiding::directionFromSquare({(x + 0.5f) / Fine, (y + 0.5f) / Fine});
+      double mass = pdf(w) * 4 * M_PI / (double(Fine) * Fine);
+      expected[size_t((y / Sub) * Cells + x / Sub)] += mass * double(samples);
+      total += mass;
+    }
+  expected[Cells * Cells] = std::max(0.0, 1 - total) * double(samples);
+  Pcg32 rng(seed, 5);
+  for (size_t i = 0; i < samples; ++i) {
+    Vec2 u = rng.next2D();
+    auto w = sample(u, rng.next1D());
+    if (!w) {
+      observed[Cells * Cells] += 1;
+      continue;
+    }
+    Vec2 c = guiding::squareFromDirection(glm::normalize(*w));
+    observed[size_t(int(c.y * Cells) * Cells + int(c.x * Cells))] += 1;
+  }
+  return chi2Test(observed, expected);
+}
+
+// The path estimator's mixture sampling (PathEstimator::scatter, which the
+// guided integrator runs) against the mixture density c·p_bsdf + (1−c)·p_guide,
+// each component's density evaluated on its own (the quadtree's product of
+// quadrant shares, Q's bin weights; sampling halves the square or searches a
+// cumulative table), at points the camera sees on a trained Cornell box.
+// scatter() ends the path for a direction the BSDF does not scatter into (the
+// guide's mass below the surface): those samples are missing, and the test's
+// density is 0 there, so exactly that mass is expected to be missing. The
+// guide alone is tested the same way.
+TEST(Guided, MixtureSamplingFollowsTheMixtureDensity) {
+  SceneFile sf = loadShippedScene("cornell-box", 24, 24);
+  YAML::Node none = YAML::Load("{rr: false}");
+  Params pp(none, "test.yaml", "integrator");
+  PathEstimator estimator(PathTracerSettings::read(pp));
+  const Vec2 pixels[] = {{12, 20}, {4, 12}, {20, 6}};  // floor, left wall, right wall / ceiling
+  int tests = 0, guidedPoints = 0;
+  for (const auto& m : Methods) {
+    bool q = m[0] == std::string("qlearning");
+    std::string params = q ? m[1] : std::string(m[1]).insert(1, "max_quadtree_depth: 10, ");
+    auto integrator = trained(sf, params, q ? 16 : 0);
+    auto guide = integrator->method().makeGuide(0.4f);
+    for (Vec2 px : pixels) {
+      SurfaceInteraction si;
+      ASSERT_TRUE(sf.scene->intersect(sf.scene->camera.generateRay(px + Vec2(0.5f)), si));
+      BSDF bsdf(si);
+      if (!guide->prepare(si, bsdf)) continue;  // nothing learned here
+      ++guidedPoints;
+      GivenNumbers numbers;
+      auto mixture = [&](const Vec3& wi) {
+        if (isBlack(bsdf.eval(si.wo, wi, TransportMode::Radiance).f)) return 0.0;
+        return double(guide->mixturePdf(bsdf.pdf(si.wo, wi), wi));
+      };
+      auto r = squareHistogramTest(
+          [&](Vec2 u, float uLobe) -> std::optional<Vec3> {
+            numbers.set(uLobe, u);
+            PathState next;
+            if (!estimator.scatter(next, si, bsdf, numbers, 0, guide.get())) return std::nullopt;
+            return next.ray.d;
+          },
+          mixture, 200000, 1000 + uint64_t(tests));
+      auto alone = squareHistogramTest([&](Vec2 u, float) -> std::optional<Vec3> { return guide->sample(u); },
+                                       [&](const Vec3& wi) { return double(guide->pdf(wi)); }, 200000,
+                                       2000 + uint64_t(tests));
+      ++tests;
+      EXPECT_TRUE(r.passed(Alpha / 12)) << m[0] << " mixture at pixel " << px.x << "," << px.y << ": " << r.message
+                                        << " p = " << r.pValue;
+      EXPECT_TRUE(alone.passed(Alpha / 12)) << m[0] << " guide at pixel " << px.x << "," << px.y << ": "
+                                            << alone.message << " p = " << alone.pValue;
+    }
+  }
+  EXPECT_GE(guidedPoints, 4) << "the trained guides should cover most of these points";
+}
+
+TEST(Guided, SameSeedGivesTheSameImageWithOneAndTwoThreads) {
+  SceneFile sf = loadShippedScene("cornell-box", 24, 16);
+  for (const auto& m : Methods) {
+    Image one = renderScene(sf, {"guided", m[1], 8, 3, 1})->image();
+    Image two = renderScene(sf, {"guided", m[1], 8, 3, 2})->image();
+    Image other = renderScene(sf, {"guided", m[1], 8, 4, 2})->image();
+    EXPECT_EQ(one.pixels, two.pixels) << m[0];
+    EXPECT_NE(one.pixels, other.pixels) << m[0];
+  }
+}
+
+TEST(Guided, RefusesSettingsItCannotHonour) {
+  for (const char* yaml : {"{sampling: cosine}", "{engine: wavefront}", "{first_bounce_samples: 2}",
+                           "{bsdf_fraction: 0}", "{debug_point: '3'}", "{method: sdtree, grid_resolution: 8}",
+                           "{method: qlearning, training_iterations: 2}"}) {
+    YAML::Node node = YAML::Load(yaml);
+    Params p(node, "x.yaml", "integrator");
+    EXPECT_THROW(makeIntegrator("guided", p, "x.yaml", 1), ConfigError) << yaml;
+  }
+}
+
+}  // namespace
+}  // namespace lb::test
