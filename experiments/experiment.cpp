@@ -37,10 +37,10 @@ YAML::Node integratorParams(Params& p, const std::string& key) {
 }
 
 // Builds the integrator once to check its parameters (unknown keys, ranges).
-void validateIntegrator(const std::string& name, const YAML::Node& params, const std::string& file,
-                        const std::string& context) {
+std::unique_ptr<Integrator> validateIntegrator(const std::string& name, const YAML::Node& params,
+                                               const std::string& file, const std::string& context) {
   Params ip(params, file, context);
-  makeIntegrator(name, ip, file, ip.line());
+  return makeIntegrator(name, ip, file, ip.line());
 }
 
 // A configuration's `sweep: {key: [values], ...}`: one configuration per
@@ -76,6 +76,8 @@ std::vector<Configuration> expandSweep(Params& cp, const Configuration& base) {
     c.integrator = base.integrator;
     c.context = base.context;
     c.sampler = base.sampler;
+    c.denoise = base.denoise;
+    c.denoiseAt = base.denoiseAt;
     for (auto it = base.params.begin(); it != base.params.end(); ++it) c.params[it->first] = it->second;
     c.sweepGroup = base.label;
     std::string suffix;
@@ -268,6 +270,11 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     base.params = integratorParams(cp, "params");
     base.context = cp.context() + ".params";
     if (auto s = cp.getChild("sampler")) base.sampler = readSamplerSettings(*s);
+    base.denoise = cp.getString("denoise", "");
+    base.denoiseAt = {cp.file(), cp.context() + ".denoise", cp.line("denoise")};
+    if (!base.denoise.empty() && base.denoise != "nlmeans")
+      cp.fail("denoise", "unknown denoiser '" + base.denoise +
+                             "' (available: nlmeans, the feature-guided non-local means of Rousselle et al. 2013)");
     std::vector<Configuration> members = expandSweep(cp, base);
     cp.checkUnused();
     if (!integratorExists(base.integrator)) {
@@ -278,10 +285,15 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     }
     for (Configuration& c : members) {
       for (const auto& other : e.configurations)
-        if (slug(other.label) == slug(c.label))
+        if (slug(other.label) == slug(c.label) || (!other.denoise.empty() && slug(other.denoisedLabel()) == slug(c.label)) ||
+            (!c.denoise.empty() && slug(c.denoisedLabel()) == slug(other.label)))
           cp.fail(c.sweepGroup.empty() ? "label" : "sweep", "label '" + c.label + "' collides with '" + other.label +
                                                                 "' (file names use letters and digits, lower case)");
-      validateIntegrator(c.integrator, c.params, cp.file(), c.sweepGroup.empty() ? c.context : cp.context() + ".sweep");
+      auto integrator =
+          validateIntegrator(c.integrator, c.params, cp.file(), c.sweepGroup.empty() ? c.context : cp.context() + ".sweep");
+      if (!c.denoise.empty() && !integrator->independentPasses())
+        cp.fail("denoise", "'" + c.integrator + "' has correlated passes, so its film has no per-pixel variance, "
+                           "which the filter measures colour differences in; remove denoise");
       e.configurations.push_back(std::move(c));
     }
   }

@@ -59,6 +59,12 @@ struct Configuration {
   YAML::Node sweepValues{YAML::NodeType::Map};
   // `sampler:` in the configuration replaces the scenes' own (core/sampler.h).
   std::optional<SamplerSettings> sampler;
+  // `denoise: nlmeans`: every snapshot is also filtered (core/denoise.h) and
+  // logged as its own configuration, denoisedLabel(), at the time the render
+  // took plus the features' and the filter's (so the plots show both trades).
+  std::string denoise;
+  KeyLocation denoiseAt;
+  std::string denoisedLabel() const { return label + " + " + denoise; }
 };
 
 enum class SnapshotSpacing { Log, Linear };

@@ -87,6 +87,15 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     for (const auto& entry : integratorRegistry())
       if (entry.name == c.integrator) conf["unbiased"] = entry.unbiased(c.params);
     j["configurations"].push_back(conf);
+    // Its denoised snapshots are logged as a configuration of their own: a
+    // filter's output is biased (it trades variance for bias).
+    if (!c.denoise.empty()) {
+      json denoised = conf;
+      denoised["label"] = c.denoisedLabel();
+      denoised["denoise"] = {{"filter", c.denoise}, {"of", c.label}};
+      denoised["unbiased"] = false;
+      j["configurations"].push_back(denoised);
+    }
   }
   j["libraries"] = {{"embree", RTC_VERSION_STRING},
                     {"tbb", TBB_VERSION_STRING},

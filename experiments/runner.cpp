@@ -16,6 +16,8 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include "core/aov.h"
+#include "core/denoise.h"
 #include "core/scene_loader.h"
 #include "experiments/decomposition.h"
 #include "experiments/meta.h"
@@ -33,6 +35,9 @@ const char* const LogColumns[] = {"scene", "label", "integrator", "repeat", "see
                                   "mape_crop", "over_budget_s", "final", nullptr};
 
 namespace {
+
+// Jittered first-hit rays per pixel for the denoiser's features (core/aov.h).
+constexpr int DenoiseFeatureSamples = 16;
 
 std::string csvField(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -333,6 +338,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     // An imported scene's max_depth holds for every configuration (the integral it defines).
     Params params(runParams[t.scene][t.config], e.file, c.context);
     auto integrator = makeIntegrator(c.integrator, params);
+    if (!c.denoise.empty() && !integrator->independentPasses())
+      throw c.denoiseAt.error("'" + c.integrator + "' has correlated passes, so its film has no per-pixel variance, "
+                              "which the filter measures colour differences in; remove denoise");
     Film film(scene.camera.width(), scene.camera.height());
     uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
     RenderOptions ro;
@@ -344,8 +352,37 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     // pass, so a preprocess longer than the budget overruns it (empty
     // without a time budget).
     auto overBudget = [&](double seconds) { return timeBudget ? fmt(std::max(0.0, seconds - e.budget.seconds)) : ""; };
-    auto record = [&](uint64_t passes, double seconds, double preprocess, bool final) {
+    // denoise: the first-hit features, rendered once (their time counts in
+    // every denoised snapshot), and the filtered snapshot with its time.
+    std::optional<FirstHitImages> features;
+    double featureSeconds = 0;
+    struct Denoised {
+      Image image;
+      double seconds = 0;  // features + filter
+    };
+    auto denoiseSnapshot = [&]() {
+      auto start = Clock::now();
+      if (!features) {
+        features = renderFirstHitImages(scene, DenoiseFeatureSamples, seed);
+        featureSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+        start = Clock::now();
+      }
+      Denoised d;
+      d.image = denoiseNlMeans(film.image(), film.varianceOfMean(), *features);
+      d.seconds = featureSeconds + std::chrono::duration<double>(Clock::now() - start).count();
+      return d;
+    };
+    auto record = [&](uint64_t passes, double seconds, double preprocess, bool final, const Denoised* denoised) {
       Image img = film.image();
+      if (denoised) {  // its row first: the raw final row marks the run finished
+        ErrorMetrics dm = computeMetrics(denoised->image, ref, e.metricSettings);
+        ErrorMetrics dc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(denoised->image, ref, e.metricSettings, es.crop);
+        log.write({es.name, c.denoisedLabel(), c.integrator, std::to_string(t.repeat), std::to_string(seed),
+                   fmt(seconds + denoised->seconds), fmt(preprocess), std::to_string(passes), fmt(dm.rmse),
+                   fmt(dm.relMse), fmt(dm.mape), fmt(std::nan("")), std::to_string(film.nonFiniteCount()),
+                   es.crop.empty() ? "" : fmt(dc.rmse), es.crop.empty() ? "" : fmt(dc.relMse),
+                   es.crop.empty() ? "" : fmt(dc.mape), overBudget(seconds), final ? "1" : "0"});
+      }
       ErrorMetrics m = computeMetrics(img, ref, e.metricSettings);
       ErrorMetrics mc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(img, ref, e.metricSettings, es.crop);
       log.write({es.name, c.label, c.integrator, std::to_string(t.repeat), std::to_string(seed), fmt(seconds),
@@ -371,16 +408,18 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       double at = timeBudget ? p.seconds : double(p.passes);
       bool due = false;
       while (nextPoint + 1 < points.size() && at >= points[nextPoint]) ++nextPoint, due = true;
-      if (due) record(p.passes, p.seconds, p.preprocessSeconds, false);
+      if (!due) return;
+      std::optional<Denoised> d;
+      if (!c.denoise.empty()) d = denoiseSnapshot();
+      record(p.passes, p.seconds, p.preprocessSeconds, false, d ? &*d : nullptr);
     };
     RenderReport rep = renderLoop(scene, *integrator, film, c.sampler ? *c.sampler : scenes[t.scene].sampler, ro, afterPass);
     // Images first, the final row last: a run counts as finished (for
     // --resume) only once everything it produces is on disk.
     std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
-    // Every repeat's final image, for the bias²/variance split over repeats.
-    if (t.repeat > 0) writeExr(repeatImagePath(stem, t.repeat), film.image());
-    if (t.repeat == 0) {
-      Image img = film.image();
+    std::optional<Denoised> denoised;
+    if (!c.denoise.empty()) denoised = denoiseSnapshot();
+    auto writeImages = [&](const std::string& stem, const Image& img) {
       writeExr(stem + ".exr", img);
       writePng(stem + ".png", img);
       Image err = falseColour(relativeErrorImage(img, ref, e.metricSettings.relEpsilon), 1e-4f, 10.f);
@@ -389,8 +428,12 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
         writePng(stem + "_crop.png", cropImage(img, es.crop, 4));
         writePng(stem + "_error_crop.png", cropImage(err, es.crop, 4));
       }
-    }
-    record(rep.passes, rep.seconds, rep.preprocessSeconds, true);
+    };
+    // Every repeat's final image, for the bias²/variance split over repeats.
+    if (t.repeat > 0) writeExr(repeatImagePath(stem, t.repeat), film.image());
+    if (t.repeat == 0) writeImages(stem, film.image());
+    if (denoised && t.repeat == 0) writeImages((runDir / (es.name + "__" + slug(c.denoisedLabel()))).string(), denoised->image);
+    record(rep.passes, rep.seconds, rep.preprocessSeconds, true, denoised ? &*denoised : nullptr);
     ++done;
   };
 

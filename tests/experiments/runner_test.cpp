@@ -431,5 +431,58 @@ TEST_F(Runner, BadExperimentFilesAreClearErrors) {
   EXPECT_NE(err.find("label 'BSDF' collides with 'bsdf'"), std::string::npos) << err;
 }
 
+// `denoise: nlmeans`: every snapshot is also filtered and logged as its own
+// configuration, at the same spp and a later time (the render's plus the
+// features' and the filter's), marked biased in meta.json, with its images;
+// the raw run's rows are unchanged. Integrators without a per-pixel variance
+// (MLT's correlated passes) and unknown filters are refused, naming the key.
+TEST_F(Runner, DenoisedSnapshotsAreLoggedBesideTheRawOnes) {
+  std::string text = "scenes:\n"
+                     "  - scene: scene.yaml\n"
+                     "    resolution: [16, 16]\n"
+                     "    reference: {integrator: path, spp: 64}\n"
+                     "configurations:\n"
+                     "  - {label: mis, integrator: path, denoise: nlmeans}\n"
+                     "budget: {spp: 16}\n"
+                     "snapshots: {count: 4}\n";
+  std::ofstream(dir_ / "exp.yaml") << text;
+  Experiment e = loadExperiment((dir_ / "exp.yaml").string(), {});
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  fs::path run = runExperiment(e, o);
+  CsvTable log = readCsv(run / "log.csv");
+  std::vector<std::map<std::string, std::string>> raw, denoised;
+  for (const auto& r : log.rows) (r.at("label") == "mis" ? raw : denoised).push_back(r);
+  ASSERT_EQ(raw.size(), 4u);
+  ASSERT_EQ(denoised.size(), raw.size());
+  for (size_t i = 0; i < raw.size(); ++i) {
+    EXPECT_EQ(denoised[i].at("label"), "mis + nlmeans");
+    EXPECT_EQ(denoised[i].at("spp"), raw[i].at("spp"));
+    EXPECT_EQ(denoised[i].at("final"), raw[i].at("final"));
+    EXPECT_GT(std::stod(denoised[i].at("time_s")), std::stod(raw[i].at("time_s")));
+    EXPECT_TRUE(std::isfinite(std::stod(denoised[i].at("rmse"))));
+    EXPECT_NE(denoised[i].at("rmse"), raw[i].at("rmse"));
+  }
+  EXPECT_TRUE(fs::exists(run / "scene__mis---nlmeans.png"));
+  nlohmann::json meta = nlohmann::json::parse(readFile(run / "meta.json"));
+  bool found = false;
+  for (const auto& c : meta["configurations"])
+    if (c["label"] == "mis + nlmeans") {
+      found = true;
+      EXPECT_EQ(c["unbiased"], false);
+    }
+  EXPECT_TRUE(found);
+
+  for (const char* bad : {"  - {label: m, integrator: mlt, denoise: nlmeans}\n",
+                          "  - {label: m, integrator: path, denoise: nfor}\n"}) {
+    std::string t = text;
+    t.replace(t.find("  - {label: mis"), std::string("  - {label: mis, integrator: path, denoise: nlmeans}\n").size(), bad);
+    std::ofstream(dir_ / "bad.yaml") << t;
+    std::string err;
+    EXPECT_EQ(runBinary((dir_ / "bad.yaml").string(), &err), 2) << bad;
+    EXPECT_NE(err.find("denoise"), std::string::npos) << err;
+  }
+}
+
 }  // namespace
 }  // namespace lb
