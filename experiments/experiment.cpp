@@ -77,6 +77,7 @@ std::vector<Configuration> expandSweep(Params& cp, const Configuration& base) {
     c.context = base.context;
     c.sampler = base.sampler;
     c.denoise = base.denoise;
+    c.adaptive = base.adaptive;
     c.denoiseAt = base.denoiseAt;
     for (auto it = base.params.begin(); it != base.params.end(); ++it) c.params[it->first] = it->second;
     c.sweepGroup = base.label;
@@ -270,6 +271,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     base.params = integratorParams(cp, "params");
     base.context = cp.context() + ".params";
     if (auto s = cp.getChild("sampler")) base.sampler = readSamplerSettings(*s);
+    if (auto a = cp.getChild("adaptive")) base.adaptive = AdaptiveSettings::read(*a);
     base.denoise = cp.getString("denoise", "");
     base.denoiseAt = {cp.file(), cp.context() + ".denoise", cp.line("denoise")};
     if (!base.denoise.empty() && base.denoise != "nlmeans")
@@ -291,6 +293,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
                                                                 "' (file names use letters and digits, lower case)");
       auto integrator =
           validateIntegrator(c.integrator, c.params, cp.file(), c.sweepGroup.empty() ? c.context : cp.context() + ".sweep");
+      if (c.adaptive.enabled && !integrator->adaptiveRefusal().empty())
+        cp.fail("adaptive", "adaptive sampling cannot drive '" + c.integrator + "': " + integrator->adaptiveRefusal());
       if (!c.denoise.empty() && !integrator->independentPasses())
         cp.fail("denoise", "'" + c.integrator + "' has correlated passes, so its film has no per-pixel variance, "
                            "which the filter measures colour differences in; remove denoise");

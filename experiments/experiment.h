@@ -64,6 +64,8 @@ struct Configuration {
   // took plus the features' and the filter's (so the plots show both trades).
   std::string denoise;
   KeyLocation denoiseAt;
+  // `adaptive: {passes, target_relative_error}` (integrators/adaptive_sampling.h).
+  AdaptiveSettings adaptive;
   std::string denoisedLabel() const { return label + " + " + denoise; }
 };
 

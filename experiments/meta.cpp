@@ -83,6 +83,8 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     makeIntegrator(c.integrator, p);  // resolves defaults
     json conf = {{"label", c.label}, {"integrator", c.integrator}, {"resolved_parameters", yamlToJson(p.resolved())}};
     if (c.sampler) conf["sampler"] = {{"type", c.sampler->type}, {"strata", c.sampler->strata}, {"spp", c.sampler->spp}};
+    if (c.adaptive.enabled)
+      conf["adaptive"] = {{"passes", c.adaptive.passes}, {"target_relative_error", c.adaptive.targetRelativeError}};
     if (!c.sweepGroup.empty()) conf["sweep"] = {{"group", c.sweepGroup}, {"values", yamlToJson(c.sweepValues)}};
     for (const auto& entry : integratorRegistry())
       if (entry.name == c.integrator) conf["unbiased"] = entry.unbiased(c.params);

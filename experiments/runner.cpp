@@ -346,6 +346,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     RenderOptions ro;
     ro.seed = seed;
     ro.budget = e.budget;
+    ro.adaptive = c.adaptive;
     ro.setupSeconds = scene.buildSeconds();  // the BVH, built once per scene, is owed to every run
     size_t nextPoint = 0;
     // Seconds beyond a time budget: every integrator renders at least one

@@ -18,6 +18,16 @@ void PixelIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& 
   });
 }
 
+void PixelIntegrator::renderSamples(const Scene& scene, Film& even, Film& odd, const Sampler& prototype,
+                                    const std::vector<uint32_t>& count, const std::vector<uint64_t>& first,
+                                    PassStats& stats) {
+  forEachPixel(even.width(), even.height(), prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
+    size_t p = size_t(y) * size_t(even.width()) + size_t(x);
+    for (uint64_t s = first[p]; s < first[p] + count[p]; ++s)
+      (s % 2 == 0 ? even : odd).addSample(x, y, s, samplePixel(scene, sampler, x, y, s, rays));
+  });
+}
+
 std::optional<Color> PixelIntegrator::replaySample(const Scene& scene, const Sampler& prototype, int x, int y,
                                                    uint64_t sample) {
   auto sampler = prototype.clone();

@@ -43,6 +43,10 @@ class Integrator {
   virtual std::vector<std::string> summaryLines() const { return {}; }
   // Images that belong in the main EXR as layers (BDPT's per-strategy images).
   virtual std::vector<ExrLayer> extraLayers() const { return {}; }
+  // Why adaptive sampling (adaptive_sampling.h) cannot drive this
+  // integrator, or "" if it can: it needs each pixel estimated from its own
+  // camera samples, with nothing learned from a pass as a whole.
+  virtual std::string adaptiveRefusal() const { return "it does not estimate each pixel from its own camera samples"; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the
   // integrator estimates pixels one at a time.
   virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {
@@ -58,6 +62,12 @@ class Integrator {
 class PixelIntegrator : public Integrator {
  public:
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
+  std::string adaptiveRefusal() const override { return ""; }
+  // Adaptive sampling: count[p] camera samples of pixel p (p = y·width + x),
+  // with sample indices first[p], first[p] + 1, …; a sample with an even
+  // index goes to `even`, one with an odd index to `odd`.
+  void renderSamples(const Scene& scene, Film& even, Film& odd, const Sampler& prototype,
+                     const std::vector<uint32_t>& count, const std::vector<uint64_t>& first, PassStats& stats);
   std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
 
  protected:

@@ -3,6 +3,7 @@
 #include <unistd.h>
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include "core/format.h"
 
 namespace lb {
@@ -49,6 +50,14 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
   auto elapsed = [&] {
     return options.setupSeconds + std::chrono::duration<double>(Clock::now() - start).count() - excluded;
   };
+  std::unique_ptr<AdaptiveSampling> adaptive;
+  auto* pixelIntegrator = dynamic_cast<PixelIntegrator*>(&integrator);
+  if (options.adaptive.enabled) {
+    std::string why = integrator.adaptiveRefusal();
+    if (!pixelIntegrator && why.empty()) why = "it does not estimate each pixel from its own camera samples";
+    if (!why.empty()) throw std::invalid_argument("adaptive sampling: " + why);
+    adaptive = std::make_unique<AdaptiveSampling>(film.width(), film.height(), options.adaptive);
+  }
   integrator.setProgress(options.progress);
   integrator.preprocess(scene, *sampler);
   report.preprocessSeconds = elapsed();
@@ -66,7 +75,14 @@ RenderReport renderLoop(const Scene& scene, Integrator& integrator, Film& film, 
       if (elapsed() + perPass > budget.seconds) break;
     }
     if (budget.spp == 0 && budget.seconds == 0 && pass > 0) break;  // no budget: one pass
-    integrator.renderPass(scene, film, *sampler, pass, stats);
+    if (adaptive) {
+      if (!adaptive->renderPass(scene, *pixelIntegrator, film, *sampler, pass, stats)) {
+        report.converged = true;
+        break;
+      }
+    } else {
+      integrator.renderPass(scene, film, *sampler, pass, stats);
+    }
     report.passes = pass + 1;
     double t = elapsed();
     if (afterPass) {

@@ -9,6 +9,7 @@
 // (the summary line, the experiment log) must show it.
 #include <functional>
 #include <string>
+#include "integrators/adaptive_sampling.h"
 #include "integrators/integrator.h"
 
 namespace lb {
@@ -25,6 +26,9 @@ struct RenderOptions {
   uint64_t seed = 0;
   RenderBudget budget;
   bool progress = false;  // a progress line on stderr
+  // Adaptive sampling (adaptive_sampling.h): the film then holds the
+  // estimating half, and a pass is one pass's worth of samples.
+  AdaptiveSettings adaptive;
 };
 
 struct RenderReport {
@@ -34,6 +38,7 @@ struct RenderReport {
   double preprocessSeconds = 0;
   uint64_t nonFinite = 0;
   double budgetSeconds = 0;      // the time budget it ran under (0: none)
+  bool converged = false;        // adaptive sampling stopped: every pixel reached its target
 
   // Wall time beyond the time budget (0 without one, or within it).
   double overBudgetSeconds() const { return budgetSeconds > 0 ? std::max(0.0, seconds - budgetSeconds) : 0.0; }

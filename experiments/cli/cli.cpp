@@ -70,6 +70,17 @@ int lightbenchMain(int argc, char** argv) {
       ->check(pixelCoordinates());
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)")
       ->check(intInRange(0, std::numeric_limits<long long>::max(), "sample index"));
+  auto* adaptive = render->add_flag(
+      "--adaptive", r.adaptive,
+      "Adaptive sampling: after uniform passes, samples go to pixels by their estimated relative error; one half of "
+      "the samples decides, the other (unbiased) half is the image");
+  render->add_option("--adaptive-passes", r.adaptivePasses, "Uniform passes before adapting (default 8)")
+      ->needs(adaptive)
+      ->check(intInRange(4, std::numeric_limits<int>::max(), "uniform passes, at least 4"));
+  render->add_option("--adaptive-target", r.adaptiveTarget,
+                     "Relative error at which a pixel gets no more samples (default 0: none; all there: stop early)")
+      ->needs(adaptive)
+      ->check(CLI::NonNegativeNumber);
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
   render->add_flag("--strict", r.strict, "An imported (.xml) scene's unsupported elements are errors, not warnings");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")

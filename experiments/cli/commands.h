@@ -31,6 +31,9 @@ struct RenderArgs {
   float exposure = 0;                  // the PNG preview's, in stops
   std::vector<std::string> aovs;       // layers: albedo, normal, depth, variance, spp
   std::string sampler;                 // replaces the scene's sampler type
+  bool adaptive = false;               // adaptive sampling (integrators/adaptive_sampling.h)
+  int adaptivePasses = 8;
+  double adaptiveTarget = 0;
 };
 
 // The AOV names --aov accepts.

@@ -169,6 +169,8 @@ Prepared prepare(const RenderArgs& args) {
   Params params(choice.params, args.scene, "integrator");
   for (const auto& k : choice.overridden) params.markOverridden(k);
   auto integrator = makeIntegrator(choice.name, params, args.scene, choice.line);
+  if (args.adaptive && !integrator->adaptiveRefusal().empty())
+    throw flagError("--adaptive", choice.name + ": " + integrator->adaptiveRefusal());
   if (!integrator->independentPasses() && std::find(args.aovs.begin(), args.aovs.end(), "variance") != args.aovs.end())
     throw flagError("--aov", "variance: " + choice.name +
                                  "'s passes are correlated (Markov chains), so their spread is no error estimate; "
@@ -207,6 +209,9 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   options.budget.seconds = args.seconds;
   if (options.budget.spp == 0 && options.budget.seconds == 0) options.budget.spp = job.sf.sceneSpp ? job.sf.sceneSpp : 16;
   options.progress = !args.quiet;
+  options.adaptive.enabled = args.adaptive;
+  options.adaptive.passes = args.adaptivePasses;
+  options.adaptive.targetRelativeError = args.adaptiveTarget;
 
   const Camera& cam = job.sf.scene->camera;
   job.film = std::make_unique<Film>(cam.width(), cam.height());
@@ -234,6 +239,11 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["spp"] = rep.passes;
   resolved["threads"] = args.threads;
   resolved["seconds"] = rep.seconds;
+  if (args.adaptive) {
+    resolved["adaptive"]["passes"] = args.adaptivePasses;
+    resolved["adaptive"]["target_relative_error"] = args.adaptiveTarget;
+    resolved["adaptive"]["converged"] = rep.converged;
+  }
   if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
   resolved["non_finite_samples"] = rep.nonFinite;
   std::vector<std::string> integratorSummary = job.integrator->summaryLines();

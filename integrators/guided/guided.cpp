@@ -1,5 +1,4 @@
 #include "integrators/guided/guided.h"
-#include <tbb/enumerable_thread_specific.h>
 #include <chrono>
 #include <cstdio>
 #include "integrators/pixel_tiles.h"
@@ -58,6 +57,7 @@ void GuidedPathTracer::preprocess(const Scene& scene, const Sampler& prototype) 
   using Clock = std::chrono::steady_clock;
   auto start = Clock::now();
   scene_ = &scene;
+  guides_.clear();  // views of the previous render's method
   estimator_.preprocess(scene, prototype.seed());
   if (settings_.method == GuidedSettings::Method::QLearning) {
     method_ = std::make_unique<guiding::QLearning>(scene.bounds(), settings_.qlearning);
@@ -85,20 +85,23 @@ void GuidedPathTracer::renderPass(const Scene& scene, Film& film, const Sampler&
 void GuidedPathTracer::pass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t index, PassStats& stats,
                             bool learn) {
   guiding::TileRecords records(learn ? size_t(tileCount(film.width(), film.height())) : 0);
-  tbb::enumerable_thread_specific<std::unique_ptr<DirectionGuide>> guides(
-      [&] { return method_->makeGuide(settings_.bsdfFraction); });
   forEachPixel(film.width(), film.height(), prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
     sampler.start(uint64_t(y) * uint64_t(scene.camera.width()) + uint64_t(x), index);
     Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
     auto* list = learn ? &records[size_t(tile)] : nullptr;
-    film.addSample(x, y, index, trace(ray, scene, sampler, *guides.local(), list, rays));
+    film.addSample(x, y, index, trace(ray, scene, sampler, localGuide(), list, rays));
   });
   if (learn) method_->learn(records);
 }
 
+DirectionGuide& GuidedPathTracer::localGuide() const {
+  auto& guide = guides_.local();
+  if (!guide) guide = method_->makeGuide(settings_.bsdfFraction);
+  return *guide;
+}
+
 Color GuidedPathTracer::Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
-  auto guide = method_->makeGuide(settings_.bsdfFraction);
-  return trace(ray, scene, sampler, *guide, nullptr, rays);
+  return trace(ray, scene, sampler, localGuide(), nullptr, rays);
 }
 
 // The path estimator's single-ray loop (path_estimator.cpp) with the guide in

@@ -32,6 +32,7 @@
 // Determinism: paths record their vertices into per-tile lists, learned from
 // after the pass in tile order (guiding_method.h): the same image for a seed
 // whatever the thread count.
+#include <tbb/enumerable_thread_specific.h>
 #include <memory>
 #include <optional>
 #include "integrators/guided/guiding_method.h"
@@ -60,6 +61,11 @@ class GuidedPathTracer final : public PixelIntegrator {
   std::vector<std::string> summaryLines() const override;
   std::vector<std::string> extraOutputPaths(const std::string& stem) const override;
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
+  // Q-learning learns from whole passes; the SD-tree is fixed after training.
+  std::string adaptiveRefusal() const override {
+    return settings_.method == GuidedSettings::Method::QLearning ? "guided's method: qlearning learns from whole passes"
+                                                                 : "";
+  }
   const guiding::GuidingMethod& method() const { return *method_; }
 
  protected:
@@ -75,6 +81,9 @@ class GuidedPathTracer final : public PixelIntegrator {
   GuidedSettings settings_;
   PathEstimator estimator_;
   std::unique_ptr<guiding::GuidingMethod> method_;
+  // Each thread's view of method_ (made again after each preprocess).
+  DirectionGuide& localGuide() const;
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<DirectionGuide>> guides_;
   const Scene* scene_ = nullptr;
   uint64_t trainingPasses_ = 0;
   double trainingSeconds_ = 0;

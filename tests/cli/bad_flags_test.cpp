@@ -34,6 +34,16 @@ TEST_F(BadFlag, SppAndTimeMustBePositiveAndFinite) {
   }
 }
 
+TEST_F(BadFlag, AdaptiveNeedsAPixelByPixelIntegratorAndSaneSettings) {
+  expectFlagError(renderWith("--spp 4 --integrator bdpt --adaptive"), "--adaptive",
+                  "bdpt: it does not estimate each pixel from its own camera samples");
+  expectFlagError(renderWith("--spp 4 --adaptive --adaptive-passes 2"), "--adaptive-passes", "got '2'");
+  RunResult lonely = renderWith("--spp 4 --adaptive-target 0.1");  // without --adaptive
+  EXPECT_EQ(lonely.exitCode, 2) << lonely.err;
+  RunResult ok = renderWith("--spp 8 --adaptive --adaptive-target 0.1");
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
 TEST_F(BadFlag, SeedMustFitSixtyFourBits) {
   for (const char* v : {"-1", "18446744073709551616", "1e3", "0x1"}) {
     SCOPED_TRACE(v);

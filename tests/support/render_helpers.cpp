@@ -44,6 +44,7 @@ Rendered renderWithReport(const SceneFile& sf, const RenderSpec& spec) {
   RenderOptions options;
   options.seed = spec.seed;
   options.budget.spp = spec.spp;
+  options.adaptive = spec.adaptive;
   r.report = renderLoop(*sf.scene, *integrator, *r.film, sf.sampler, options);
   return r;
 }
