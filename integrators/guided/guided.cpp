@@ -128,6 +128,11 @@ Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampl
     Color before = L;
     std::optional<BSDF> bsdf;
     int n = estimator_.shadeVertex(s, hit, si, c, L, shadows, bsdf);
+    // What shadeVertex added is the emission this segment reached, weighted
+    // by MIS against the previous vertex's light samples: divided by that
+    // vertex's throughput, the emission its direction found, less what NEE
+    // already found (so Q-learning does not learn to aim at lights NEE reaches).
+    Color emitted = L - before;
     for (int i = 0; i < n; ++i) {
       ++rays;
       if (!scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
@@ -135,10 +140,7 @@ Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampl
     if (records) {
       if (lastRecorded) {
         GuideVertex& prev = records->back();
-        if (!hit)
-          for (const Light* env : scene.infiniteLights()) prev.emitted += luminance(env->Le(s.ray.d));
-        else if (si.emitter)
-          prev.emitted = luminance(si.emitter->L(si.ng, si.wo));
+        prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
         if (bsdf) prev.scattered = method_->scatteredValue(guide, si, *bsdf);
       }
       Color added = L - before;

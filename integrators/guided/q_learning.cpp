@@ -7,60 +7,55 @@ namespace lb::guiding {
 
 namespace {
 
-// The distribution at one vertex: the cell's Q times |cos θ| over the bins on
-// the sides the BSDF scatters to, as a cumulative table (q_learning.h).
+// A table guides only once it has had this many updates per bin on average:
+// a table learned from a handful of paths is a few spikes wherever those
+// paths happened to find light, and sampling half the directions from it
+// costs more variance than it saves.
+constexpr uint64_t MinVisitsPerBin = 4;
+
+// The distribution at one vertex: its cell's and orientation's cumulative
+// table of Q·cos (q_learning.h), built after each pass's learning.
 class QGuide final : public DirectionGuide {
  public:
-  QGuide(const QLearning& table, float bsdfFraction)
-      : DirectionGuide(bsdfFraction), table_(table), cdf_(size_t(table.bins())) {}
+  QGuide(const QLearning& table, float bsdfFraction) : DirectionGuide(bsdfFraction), table_(table) {}
 
   float pdf(const Vec3& wi) const override {
     int k = table_.binOf(wi);
-    float w = cdf_[size_t(k)] - (k > 0 ? cdf_[size_t(k) - 1] : 0.f);
-    return w / total_ * float(table_.bins()) / FourPi;
+    float w = cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.f);
+    return w / total() * float(table_.bins()) / FourPi;
   }
 
-  Vec3 sample(Vec2 u) const override {
-    float target = u.x * total_;
+  Vec3 sample(Vec2 u, float* pdf) const override {
+    const int n = table_.bins();
+    float target = u.x * total();
     // The first bin whose cumulative weight exceeds the target has weight > 0;
     // if rounding put the target at the total, the last bin of weight > 0.
-    int k = int(std::upper_bound(cdf_.begin(), cdf_.end(), target) - cdf_.begin());
-    if (k == table_.bins())
-      for (k = table_.bins() - 1; k > 0 && cdf_[size_t(k)] == cdf_[size_t(k) - 1];) --k;
-    float before = k > 0 ? cdf_[size_t(k) - 1] : 0.f;
-    float inBin = std::clamp((target - before) / (cdf_[size_t(k)] - before), 0.f, OneMinusEpsilon);
+    int k = int(std::upper_bound(cdf_, cdf_ + n, target) - cdf_);
+    if (k == n)
+      for (k = n - 1; k > 0 && cdf_[k] == cdf_[k - 1];) --k;
+    float before = k > 0 ? cdf_[k - 1] : 0.f;
+    float inBin = std::clamp((target - before) / (cdf_[k] - before), 0.f, OneMinusEpsilon);
     int row = k / table_.cols(), col = k % table_.cols();
+    *pdf = (cdf_[k] - before) / total() * float(n) / FourPi;
     return directionFromSquare({(float(row) + inBin) / float(table_.rows()), (float(col) + u.y) / float(table_.cols())});
   }
 
-  // Σ_k Q_k |cos θ_k| over the bins the BSDF reaches: the sampling weights' total.
-  float weightTotal() const { return total_; }
+  // Σ_k Q_k cos θ_k over the bins facing out of the surface.
+  float total() const { return cdf_[table_.bins() - 1]; }
   int cell() const { return cell_; }
   int orientation() const { return orientation_; }
 
  protected:
-  bool prepareAt(const SurfaceInteraction& si, const BSDF& bsdf) override {
+  bool prepareAt(const SurfaceInteraction& si, const BSDF&) override {
     cell_ = table_.cellOf(si.p);
     orientation_ = orientationClass(si);
-    const float* q = table_.q(cell_, orientation_);
-    if (!q) return false;
-    const Vec3& n = bsdf.shadingNormal();
-    float side = glm::dot(si.wo, n) >= 0 ? 1.f : -1.f;
-    bool transmits = bsdf.material().hasTransmission();
-    float sum = 0;
-    for (int k = 0; k < table_.bins(); ++k) {
-      float cosine = side * glm::dot(table_.binCenter(k), n);
-      if (cosine > 0 || transmits) sum += q[k] * std::abs(cosine);
-      cdf_[size_t(k)] = sum;
-    }
-    total_ = sum;
-    return total_ > 0;
+    cdf_ = table_.cdf(cell_, orientation_);
+    return cdf_ && total() > 0;
   }
 
  private:
   const QLearning& table_;
-  std::vector<float> cdf_;
-  float total_ = 0;
+  const float* cdf_ = nullptr;
   int cell_ = 0, orientation_ = 0;
 };
 
@@ -82,6 +77,7 @@ size_t QLearning::tableOf(int cell, int orientation) {
     slot = int32_t(q_.size() / size_t(bins()));
     q_.resize(q_.size() + size_t(bins()), 0.f);
     visits_.resize(q_.size(), 0);
+    slotOrientation_.push_back(orientation);
   }
   return size_t(slot);
 }
@@ -100,6 +96,27 @@ int QLearning::binOf(const Vec3& w) const {
 void QLearning::setQ(int cell, int orientation, const std::vector<float>& values) {
   size_t table = tableOf(cell, orientation);
   std::copy(values.begin(), values.end(), q_.begin() + std::ptrdiff_t(table * size_t(bins())));
+  buildTables();
+}
+
+// Each table's cumulative Q·cos θ over the bins facing out of its
+// orientation's axis (the class's normal, guiding_method.h), so a vertex
+// looks its distribution up instead of weighting every bin.
+void QLearning::buildTables() {
+  cdf_.resize(q_.size());
+  for (size_t slot = 0; slot < slotOrientation_.size(); ++slot) {
+    int o = slotOrientation_[slot];
+    Vec3 axis(0.f);
+    axis[o / 2] = o % 2 ? -1.f : 1.f;
+    uint64_t visits = 0;
+    for (int k = 0; k < bins(); ++k) visits += visits_[slot * size_t(bins()) + size_t(k)];
+    float sum = 0;
+    for (int k = 0; k < bins(); ++k) {
+      float cosine = glm::dot(centers_[size_t(k)], axis);
+      if (cosine > 0 && visits >= MinVisitsPerBin * uint64_t(bins())) sum += q_[slot * size_t(bins()) + size_t(k)] * cosine;
+      cdf_[slot * size_t(bins()) + size_t(k)] = sum;
+    }
+  }
 }
 
 std::unique_ptr<DirectionGuide> QLearning::makeGuide(float bsdfFraction) const {
@@ -112,8 +129,8 @@ float QLearning::scatteredValue(const DirectionGuide& guide, const SurfaceIntera
   if (!g.active()) return 0;  // nothing learned at y (or a delta BSDF)
   float binArea = FourPi / float(bins());
   bool lambertian = bsdf.flags() == (BSDFReflection | BSDFDiffuse);
-  if (lambertian)  // f is constant: the sampling weights' total is Σ Q |cos|
-    return binArea * g.weightTotal() * luminance(bsdf.eval(y.wo, bsdf.shadingNormal(), TransportMode::Radiance).f);
+  if (lambertian)  // f is constant: the table's total is Σ Q cos (about the class's axis)
+    return binArea * g.total() * luminance(bsdf.eval(y.wo, bsdf.shadingNormal(), TransportMode::Radiance).f);
   const float* qy = q(g.cell(), g.orientation());
   float sum = 0;
   for (int k = 0; k < bins(); ++k)
@@ -133,6 +150,7 @@ void QLearning::learn(const TileRecords& records) {
       q_[i] += (target - q_[i]) / float(++visits_[i]);
       ++updates_;
     }
+  buildTables();
 }
 
 std::vector<std::string> QLearning::statistics() const {

@@ -43,9 +43,10 @@ float QuadTree::pdf(Vec2 c) const {
   }
 }
 
-Vec2 QuadTree::sample(Vec2 u) const {
+Vec2 QuadTree::sample(Vec2 u, float* pdf) const {
   glm::dvec2 uu(u);
   glm::dvec2 origin(0), size(1);
+  double density = 1;
   for (uint32_t n = 0;;) {
     const auto& e = nodes_[n].energy;
     double sum = double(e[0]) + e[1] + e[2] + e[3];
@@ -58,10 +59,12 @@ Vec2 QuadTree::sample(Vec2 u) const {
     uu.y = qy ? (uu.y - bottom) / (1 - bottom) : uu.y / bottom;
     size *= 0.5;
     origin += glm::dvec2(qx, qy) * size;
+    if (sum > 0) density *= 4 * double(e[size_t(qx + 2 * qy)]) / sum;
     uint32_t child = nodes_[n].child[size_t(qx + 2 * qy)];
     if (!child || !(sum > 0)) break;
     n = child;
   }
+  if (pdf) *pdf = float(density);
   glm::dvec2 c = origin + glm::clamp(uu, 0.0, 1.0) * size;
   return glm::min(Vec2(c), Vec2(OneMinusEpsilon));
 }

@@ -30,7 +30,8 @@ class QuadTree {
   float total() const;
   // The density over the unit square (uniform where nothing was recorded).
   float pdf(Vec2 c) const;
-  Vec2 sample(Vec2 u) const;
+  // A point drawn from the density, and (if asked) its density there.
+  Vec2 sample(Vec2 u, float* pdf = nullptr) const;
   // The structure the energies call for, with zero energies (see above).
   QuadTree refined(float rho, int maxDepth) const;
 

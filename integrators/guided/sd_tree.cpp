@@ -10,7 +10,11 @@ class SdTreeGuide final : public DirectionGuide {
  public:
   SdTreeGuide(const SdTree& tree, float bsdfFraction) : DirectionGuide(bsdfFraction), tree_(tree) {}
   float pdf(const Vec3& wi) const override { return quad_->pdf(squareFromDirection(wi)) / FourPi; }
-  Vec3 sample(Vec2 u) const override { return directionFromSquare(quad_->sample(u)); }
+  Vec3 sample(Vec2 u, float* pdf) const override {
+    Vec3 d = directionFromSquare(quad_->sample(u, pdf));
+    *pdf /= FourPi;
+    return d;
+  }
 
  protected:
   bool prepareAt(const SurfaceInteraction& si, const BSDF&) override {

@@ -37,9 +37,10 @@ class DirectionGuide {
   bool active() const { return active_; }
   float bsdfFraction() const { return bsdfFraction_; }
 
-  // The guiding component's solid-angle density, and a direction drawn from it.
+  // The guiding component's solid-angle density, and a direction drawn from
+  // it with that density (computed on the way, saving a second look-up).
   virtual float pdf(const Vec3& wi) const = 0;
-  virtual Vec3 sample(Vec2 u) const = 0;
+  virtual Vec3 sample(Vec2 u, float* pdf) const = 0;
   // The mixture's density, given the BSDF's density of the same direction.
   float mixturePdf(float bsdfPdf, const Vec3& wi) const {
     return bsdfFraction_ * bsdfPdf + (1 - bsdfFraction_) * pdf(wi);

@@ -247,11 +247,11 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   Vec2 uDir = sampler.get2D();
   Vec3 wi;
   // A direction drawn by some other density than the BSDF's own sampling:
-  // f·|cos θ| / pdf, evaluated for it.
-  auto takeDirection = [&](const Vec3& d, float pdf) {
-    BSDFEval e = bsdf.eval(si.wo, d, TransportMode::Radiance);
-    if (!(pdf > 0) || isBlack(e.f)) return false;
-    next.beta *= e.f * absDot(d, bsdf.shadingNormal()) / pdf;
+  // f·|cos θ| / pdf, with f evaluated for it (or known).
+  auto takeDirection = [&](const Vec3& d, float pdf, const Color* knownF = nullptr) {
+    Color f = knownF ? *knownF : bsdf.eval(si.wo, d, TransportMode::Radiance).f;
+    if (!(pdf > 0) || isBlack(f)) return false;
+    next.beta *= f * absDot(d, bsdf.shadingNormal()) / pdf;
     if (glm::dot(d, si.ng) * glm::dot(si.wo, si.ng) < 0)
       next.etaScale *= sqr(bsdf.material().relativeEta(bsdf.frame().toLocal(si.wo)));
     wi = d;
@@ -262,15 +262,18 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   if (guide && guide->active()) {
     // One-sample mixture (direction_guide.h): either component may draw the
     // direction; its weight uses the mixture's density.
+    // (A non-delta BSDF's sample carries f(wo, wi) and pdf(wo, wi) of its
+    // direction, material.h; the guide's sample, its own density.)
     float c = guide->bsdfFraction();
     if (uLobe < c) {
       auto bs = bsdf.sample(si.wo, std::min(uLobe / c, OneMinusEpsilon), uDir, TransportMode::Radiance);
       if (!bs) return false;
-      wi = bs->wi;
+      if (!takeDirection(bs->wi, c * bs->pdf + (1 - c) * guide->pdf(bs->wi), &bs->f)) return false;
     } else {
-      wi = guide->sample(uDir);
+      float guidePdf = 0;
+      Vec3 d = guide->sample(uDir, &guidePdf);
+      if (!takeDirection(d, c * bsdf.pdf(si.wo, d) + (1 - c) * guidePdf)) return false;
     }
-    if (!takeDirection(wi, guide->mixturePdf(bsdf.pdf(si.wo, wi), wi))) return false;
   } else if (hemisphere) {
     DirectionChoice d = sampleHemisphere(settings_.sampling, bsdf, si.wo, uLobe, uDir);
     if (!takeDirection(d.wi, d.pdf)) return false;
