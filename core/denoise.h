@@ -25,7 +25,8 @@ struct DenoiseSettings {
 // Markov chain's passes): the colour distance is measured in units of that
 // variance, so without it the filter has no scale to work with.
 // Non-finite colours never reach the output (see denoise.cpp). The result
-// does not depend on the thread count.
+// does not depend on the thread count. A variance of 0 (a film pixel with one
+// sample) reads as noise-free: no neighbour with another colour is averaged in.
 Image denoiseNlMeans(const Image& color, const Image& varianceOfMean, const FirstHitImages& features,
                      const DenoiseSettings& settings = {});
 

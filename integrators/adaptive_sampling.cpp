@@ -1,4 +1,5 @@
 #include "integrators/adaptive_sampling.h"
+
 #include <cmath>
 
 namespace lb {
@@ -12,7 +13,8 @@ constexpr double MaxWeightRatio = 16;     // a pixel's weight, at most this time
 AdaptiveSettings AdaptiveSettings::read(Params& p) {
   AdaptiveSettings s;
   s.enabled = true;
-  s.passes = p.getInt("passes", 8, {"uniform passes before adapting (each half gets every other one)", Range::atLeast(4)});
+  s.passes =
+      p.getInt("passes", 8, {"uniform passes before adapting (each half gets every other one)", Range::atLeast(4)});
   s.targetRelativeError = p.getFloat(
       "target_relative_error", 0.f,
       {"pixels whose estimated relative error is below this get no more samples (0: none)", Range::atLeast(0)});
@@ -21,16 +23,23 @@ AdaptiveSettings AdaptiveSettings::read(Params& p) {
 }
 
 AdaptiveSampling::AdaptiveSampling(int width, int height, AdaptiveSettings settings)
-    : settings_(settings), width_(width), height_(height), deciding_(width, height), drawn_(size_t(width) * height, 0) {}
+    : settings_(settings),
+      width_(width),
+      height_(height),
+      deciding_(width, height),
+      drawn_(size_t(width) * height, 0) {}
 
 bool AdaptiveSampling::renderPass(const Scene& scene, PixelIntegrator& integrator, Film& estimate,
                                   const Sampler& prototype, uint64_t pass, PassStats& stats) {
-  std::vector<uint32_t> count =
-      pass < uint64_t(settings_.passes) ? std::vector<uint32_t>(drawn_.size(), 1) : plan();
+  std::vector<uint32_t> count = pass < uint64_t(settings_.passes) ? std::vector<uint32_t>(drawn_.size(), 1) : plan();
   bool any = false;
   for (uint32_t c : count) any |= c > 0;
   if (!any) return false;
-  integrator.renderSamples(scene, estimate, deciding_, prototype, count, drawn_, stats);
+  // The deciding half's own stream: independent of the image's samples
+  // whatever the scene's sampler (a stratified or low-discrepancy sequence
+  // ties a pixel's samples together; its even half alone is a prefix of it).
+  IndependentSampler decidingSampler(hashValues(prototype.seed(), 0xdec1de));
+  integrator.renderSamples(scene, estimate, prototype, deciding_, decidingSampler, count, drawn_, stats);
   for (size_t i = 0; i < count.size(); ++i) drawn_[i] += count[i];
   return true;
 }

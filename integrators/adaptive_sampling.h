@@ -10,10 +10,13 @@
 // the parity of their index (Rousselle et al. 2012 use such dual buffers for
 // the same reason): the odd half only decides — its per-pixel variance and
 // mean set the next pass's counts — and the even half only estimates: the
-// image is its mean. The even half's counts depend on the odd half alone,
-// which is independent of the even half's samples, so the image is
-// UNBIASED (tested): E[Σ_i L_i / n | n] = μ for any n chosen without them.
-// The price is that half of the samples never reach the image.
+// image is its mean. The deciding half draws its numbers from an independent
+// sampler of its own seed, the estimating half from the scene's sampler (its
+// samples 0, 1, 2, … of the pixel), so the even half's counts depend on the
+// odd half alone, which is independent of the even half's samples whatever
+// the scene's sampler, and the image is UNBIASED (tested):
+// E[Σ_i L_i / n | n] = μ for any n chosen without them. The price is that
+// half of the samples never reach the image.
 //
 // Allocation: pixel p's share is proportional to its per-sample relative
 // deviation s_p = σ_p / √(m_p² + 0.01) (the relative error the experiments'

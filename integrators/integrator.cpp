@@ -1,4 +1,5 @@
 #include "integrators/integrator.h"
+#include <tbb/enumerable_thread_specific.h>
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -18,14 +19,20 @@ void PixelIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& 
   });
 }
 
-void PixelIntegrator::renderSamples(const Scene& scene, Film& even, Film& odd, const Sampler& prototype,
-                                    const std::vector<uint32_t>& count, const std::vector<uint64_t>& first,
-                                    PassStats& stats) {
-  forEachPixel(even.width(), even.height(), prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
-    size_t p = size_t(y) * size_t(even.width()) + size_t(x);
-    for (uint64_t s = first[p]; s < first[p] + count[p]; ++s)
-      (s % 2 == 0 ? even : odd).addSample(x, y, s, samplePixel(scene, sampler, x, y, s, rays));
-  });
+void PixelIntegrator::renderSamples(const Scene& scene, Film& even, const Sampler& evenPrototype, Film& odd,
+                                    const Sampler& oddPrototype, const std::vector<uint32_t>& count,
+                                    const std::vector<uint64_t>& first, PassStats& stats) {
+  tbb::enumerable_thread_specific<std::unique_ptr<Sampler>> oddSamplers([&] { return oddPrototype.clone(); });
+  forEachPixel(even.width(), even.height(), evenPrototype, stats,
+               [&](int, int x, int y, Sampler& evenSampler, uint64_t& rays) {
+                 size_t p = size_t(y) * size_t(even.width()) + size_t(x);
+                 Sampler& oddSampler = *oddSamplers.local();
+                 for (uint64_t s = first[p]; s < first[p] + count[p]; ++s) {
+                   bool isEven = s % 2 == 0;
+                   Color L = samplePixel(scene, isEven ? evenSampler : oddSampler, x, y, s / 2, rays);
+                   (isEven ? even : odd).addSample(x, y, s / 2, L);
+                 }
+               });
 }
 
 std::optional<Color> PixelIntegrator::replaySample(const Scene& scene, const Sampler& prototype, int x, int y,

@@ -64,10 +64,12 @@ class PixelIntegrator : public Integrator {
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::string adaptiveRefusal() const override { return ""; }
   // Adaptive sampling: count[p] camera samples of pixel p (p = y·width + x),
-  // with sample indices first[p], first[p] + 1, …; a sample with an even
-  // index goes to `even`, one with an odd index to `odd`.
-  void renderSamples(const Scene& scene, Film& even, Film& odd, const Sampler& prototype,
-                     const std::vector<uint32_t>& count, const std::vector<uint64_t>& first, PassStats& stats);
+  // numbered first[p], first[p] + 1, …; sample s goes to `even` if s is
+  // even, else to `odd`, as that film's sample s/2, drawing its numbers
+  // from the matching prototype.
+  void renderSamples(const Scene& scene, Film& even, const Sampler& evenPrototype, Film& odd,
+                     const Sampler& oddPrototype, const std::vector<uint32_t>& count,
+                     const std::vector<uint64_t>& first, PassStats& stats);
   std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
 
  protected:

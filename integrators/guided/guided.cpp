@@ -1,6 +1,8 @@
 #include "integrators/guided/guided.h"
+
 #include <chrono>
 #include <cstdio>
+#include <stdexcept>
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -13,29 +15,30 @@ GuidedSettings GuidedSettings::read(Params& p) {
                                    "what learns the directions: Q-learning (Dahm & Keller 2017) or an SD-tree "
                                    "(Müller et al. 2017)");
   s.method = method == "qlearning" ? GuidedSettings::Method::QLearning : GuidedSettings::Method::SdTree;
-  s.bsdfFraction = p.getFloat("bsdf_fraction", 0.5f,
-                              {"probability that the BSDF, not the learned distribution, draws a direction",
-                               Range::openClosed(0, 1)});
+  s.bsdfFraction = p.getFloat(
+      "bsdf_fraction", 0.5f,
+      {"probability that the BSDF, not the learned distribution, draws a direction", Range::openClosed(0, 1)});
   if (s.method == GuidedSettings::Method::QLearning || p.describing()) {
     p.setCondition("method: qlearning");
-    s.qlearning.gridResolution = p.getInt("grid_resolution", 32,
-                                          {"cells of the Q grid along the scene's longest axis", Range::between(1, 128)});
-    s.qlearning.rows = p.getInt("q_rows", 8,
-                                {"rows (of cos θ) of each cell's sphere of Q bins; twice as many columns of φ",
-                                 Range::between(2, 32)});
+    s.qlearning.gridResolution =
+        p.getInt("grid_resolution", 32, {"cells of the Q grid along the scene's longest axis", Range::between(1, 128)});
+    s.qlearning.rows = p.getInt(
+        "q_rows", 8,
+        {"rows (of cos θ) of each cell's sphere of Q bins; twice as many columns of φ", Range::between(2, 32)});
     p.setCondition("");
   }
   if (s.method == GuidedSettings::Method::SdTree || p.describing()) {
     p.setCondition("method: sdtree");
-    s.sdtree.trainingIterations = p.getInt(
-        "training_iterations", 5,
-        {"iterations of 1, 2, 4, … spp that train the SD-tree before the image (in the time budget)",
-         Range::between(0, 12)});
-    s.sdtree.spatialThreshold = p.getFloat(
-        "spatial_threshold", 12000.f, {"c: a leaf with more than c·√(2^k) records in iteration k is split", Range::above(0)});
-    s.sdtree.subdivisionThreshold = p.getFloat(
-        "subdivision_threshold", 0.01f,
-        {"ρ: a quadrant with more than this share of a quadtree's energy is subdivided", Range::open(0, 1)});
+    s.sdtree.trainingIterations =
+        p.getInt("training_iterations", 5,
+                 {"iterations of 1, 2, 4, … spp that train the SD-tree before the image (in the time budget)",
+                  Range::between(0, 12)});
+    s.sdtree.spatialThreshold =
+        p.getFloat("spatial_threshold", 12000.f,
+                   {"c: a leaf with more than c·√(2^k) records in iteration k is split", Range::above(0)});
+    s.sdtree.subdivisionThreshold =
+        p.getFloat("subdivision_threshold", 0.01f,
+                   {"ρ: a quadrant with more than this share of a quadtree's energy is subdivided", Range::open(0, 1)});
     s.sdtree.maxQuadTreeDepth = p.getInt("max_quadtree_depth", 20, {"deepest quadtree level", Range::between(1, 20)});
     p.setCondition("");
   }
@@ -58,6 +61,13 @@ void GuidedPathTracer::preprocess(const Scene& scene, const Sampler& prototype) 
   auto start = Clock::now();
   scene_ = &scene;
   guides_.clear();  // views of the previous render's method
+  trainingPasses_ = 0;
+  // Q-learning's later passes sample what the earlier ones taught: unbiased
+  // only if their numbers are independent of the earlier ones'.
+  if (settings_.method == GuidedSettings::Method::QLearning && !dynamic_cast<const IndependentSampler*>(&prototype))
+    throw std::invalid_argument(
+        "guided, method qlearning: each pass samples what the earlier passes learned, so "
+        "their random numbers must be independent: use sampler type independent");
   estimator_.preprocess(scene, prototype.seed());
   if (settings_.method == GuidedSettings::Method::QLearning) {
     method_ = std::make_unique<guiding::QLearning>(scene.bounds(), settings_.qlearning);
@@ -85,12 +95,13 @@ void GuidedPathTracer::renderPass(const Scene& scene, Film& film, const Sampler&
 void GuidedPathTracer::pass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t index, PassStats& stats,
                             bool learn) {
   guiding::TileRecords records(learn ? size_t(tileCount(film.width(), film.height())) : 0);
-  forEachPixel(film.width(), film.height(), prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
-    sampler.start(uint64_t(y) * uint64_t(scene.camera.width()) + uint64_t(x), index);
-    Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
-    auto* list = learn ? &records[size_t(tile)] : nullptr;
-    film.addSample(x, y, index, trace(ray, scene, sampler, localGuide(), list, rays));
-  });
+  forEachPixel(film.width(), film.height(), prototype, stats,
+               [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
+                 sampler.start(uint64_t(y) * uint64_t(scene.camera.width()) + uint64_t(x), index);
+                 Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
+                 auto* list = learn ? &records[size_t(tile)] : nullptr;
+                 film.addSample(x, y, index, trace(ray, scene, sampler, localGuide(), list, rays));
+               });
   if (learn) method_->learn(records);
 }
 

@@ -13,7 +13,7 @@
 //                       rendered with the last iteration's trees, frozen.
 //
 //   bsdf_fraction c     the mixture's BSDF share, in (0, 1]: the guide draws
-//                       with probability 1 − c (0.5, as both papers use)
+//                       with probability 1 − c (0.5, as Müller et al. use)
 //   debug_point "x,y"   writes <output>_guide.exr/.png: the learned density
 //                       over directions (φ across, cos θ down, sphere_map.h)
 //                       at the surface seen through pixel (x, y)
@@ -27,12 +27,15 @@
 // Training paths use their own random stream (an independent sampler seeded
 // from the run's seed), so the final image's samples are independent of what
 // the trees learned from. (With Q-learning the passes themselves teach the
-// next; their numbers are independent only under the independent sampler.)
+// next; their numbers are independent only under the independent sampler,
+// which Q-learning therefore requires. Replaying one of its samples, with
+// --pixel, uses the table as the render left it, not as that pass saw it.)
 //
 // Determinism: paths record their vertices into per-tile lists, learned from
 // after the pass in tile order (guiding_method.h): the same image for a seed
 // whatever the thread count.
 #include <tbb/enumerable_thread_specific.h>
+
 #include <memory>
 #include <optional>
 #include "integrators/guided/guiding_method.h"

@@ -35,15 +35,15 @@ inline int orientationClass(const SurfaceInteraction& si) {
 
 // One vertex a camera path scattered from (delta scattering is not recorded).
 struct GuideVertex {
-  Vec3 p;                // where
-  int orientation = 0;   // orientationClass of the surface there
-  Vec3 wi;               // the direction sampled there, in world space
-  float pdf = 0;         // its density under the mixture that drew it
-  Color beta{1.f};       // path throughput after scattering at p
-  Color incident{0.f};   // radiance the rest of the path brought back along wi (its contributions / β)
-  float emitted = 0;     // luminance of the emission L_e(y, −wi) at the point y that wi reached,
-                         // times its MIS weight against the light samples at p (guided.cpp)
-  float scattered = 0;   // at y: Q-learning's ∫ f cos Q (q_learning.h); 0 where y was not shaded
+  Vec3 p;               // where
+  int orientation = 0;  // orientationClass of the surface there
+  Vec3 wi;              // the direction sampled there, in world space
+  float pdf = 0;        // its density under the mixture that drew it
+  Color beta{1.f};      // path throughput after scattering at p
+  Color incident{0.f};  // radiance the rest of the path brought back along wi (its contributions / β)
+  float emitted = 0;    // luminance of the emission L_e(y, −wi) at the point y that wi reached,
+                        // times its MIS weight against the light samples at p (guided.cpp)
+  float scattered = 0;  // at y: Q-learning's ∫ f cos Q (q_learning.h); 0 where y was not shaded
 };
 using TileRecords = std::vector<std::vector<GuideVertex>>;
 

@@ -1,4 +1,5 @@
 #include "integrators/guided/q_learning.h"
+
 #include <algorithm>
 #include <cstdio>
 #include "integrators/guided/sphere_map.h"
@@ -14,7 +15,9 @@ namespace {
 constexpr uint64_t MinVisitsPerBin = 4;
 
 // The distribution at one vertex: its cell's and orientation's cumulative
-// table of Q·cos (q_learning.h), built after each pass's learning.
+// table of Q·cos (q_learning.h), built after each pass's learning. The
+// pointer is valid until the next learn(): a guide is prepared again at
+// every vertex, and learning happens only between passes.
 class QGuide final : public DirectionGuide {
  public:
   QGuide(const QLearning& table, float bsdfFraction) : DirectionGuide(bsdfFraction), table_(table) {}
@@ -37,7 +40,8 @@ class QGuide final : public DirectionGuide {
     float inBin = std::clamp((target - before) / (cdf_[k] - before), 0.f, OneMinusEpsilon);
     int row = k / table_.cols(), col = k % table_.cols();
     *pdf = (cdf_[k] - before) / total() * float(n) / FourPi;
-    return directionFromSquare({(float(row) + inBin) / float(table_.rows()), (float(col) + u.y) / float(table_.cols())});
+    return directionFromSquare(
+        {(float(row) + inBin) / float(table_.rows()), (float(col) + u.y) / float(table_.cols())});
   }
 
   // Σ_k Q_k cos θ_k over the bins facing out of the surface.
@@ -67,7 +71,8 @@ QLearning::QLearning(const Bounds3& b, QLearningSettings s) : lo_(b.lo), rows_(s
   for (int a = 0; a < 3; ++a) res_[a] = std::max(1, int(std::lround(float(s.gridResolution) * extent[a] / longest)));
   cellSize_ = extent / Vec3(float(res_[0]), float(res_[1]), float(res_[2]));
   for (int k = 0; k < bins(); ++k)
-    centers_.push_back(directionFromSquare({(float(k / cols_) + 0.5f) / float(rows_), (float(k % cols_) + 0.5f) / float(cols_)}));
+    centers_.push_back(
+        directionFromSquare({(float(k / cols_) + 0.5f) / float(rows_), (float(k % cols_) + 0.5f) / float(cols_)}));
   slot_.assign(size_t(res_[0]) * size_t(res_[1]) * size_t(res_[2]) * OrientationClasses, -1);
 }
 
@@ -104,18 +109,21 @@ void QLearning::setQ(int cell, int orientation, const std::vector<float>& values
 // looks its distribution up instead of weighting every bin.
 void QLearning::buildTables() {
   cdf_.resize(q_.size());
+  valueTotal_.resize(slotOrientation_.size());
   for (size_t slot = 0; slot < slotOrientation_.size(); ++slot) {
     int o = slotOrientation_[slot];
     Vec3 axis(0.f);
     axis[o / 2] = o % 2 ? -1.f : 1.f;
     uint64_t visits = 0;
     for (int k = 0; k < bins(); ++k) visits += visits_[slot * size_t(bins()) + size_t(k)];
+    bool guides = visits >= MinVisitsPerBin * uint64_t(bins());
     float sum = 0;
     for (int k = 0; k < bins(); ++k) {
       float cosine = glm::dot(centers_[size_t(k)], axis);
-      if (cosine > 0 && visits >= MinVisitsPerBin * uint64_t(bins())) sum += q_[slot * size_t(bins()) + size_t(k)] * cosine;
-      cdf_[slot * size_t(bins()) + size_t(k)] = sum;
+      if (cosine > 0) sum += q_[slot * size_t(bins()) + size_t(k)] * cosine;
+      cdf_[slot * size_t(bins()) + size_t(k)] = guides ? sum : 0.f;
     }
+    valueTotal_[slot] = sum;
   }
 }
 
@@ -124,14 +132,21 @@ std::unique_ptr<DirectionGuide> QLearning::makeGuide(float bsdfFraction) const {
 }
 
 // (4π/n) Σ_k f(−ω → ω_k) |cos θ_k| Q(y, ω_k): the Bellman target's integral.
-float QLearning::scatteredValue(const DirectionGuide& guide, const SurfaceInteraction& y, const BSDF& bsdf) const {
-  const auto& g = static_cast<const QGuide&>(guide);
-  if (!g.active()) return 0;  // nothing learned at y (or a delta BSDF)
+// (Computed from y itself, not from the guide prepared there: a table that
+// does not guide yet, for want of updates, still has a value to pass back.)
+float QLearning::scatteredValue(const DirectionGuide&, const SurfaceInteraction& y, const BSDF& bsdf) const {
+  if (bsdf.flags() & BSDFSpecular) return 0;  // not guided, not propagated (q_learning.h)
+  int cell = cellOf(y.p), orientation = orientationClass(y);
+  const float* qy = q(cell, orientation);
+  if (!qy) return 0;  // nothing learned at y
   float binArea = FourPi / float(bins());
   bool lambertian = bsdf.flags() == (BSDFReflection | BSDFDiffuse);
-  if (lambertian)  // f is constant: the table's total is Σ Q cos (about the class's axis)
-    return binArea * g.total() * luminance(bsdf.eval(y.wo, bsdf.shadingNormal(), TransportMode::Radiance).f);
-  const float* qy = q(g.cell(), g.orientation());
+  if (lambertian) {  // f is constant: the sum is the table's Σ Q cos (about its class's axis)
+    Vec3 n = bsdf.shadingNormal();
+    if (glm::dot(y.wo, n) < 0) n = -n;  // two-sided: f on the side the path arrived from
+    return binArea * valueTotal_[size_t(slot_[size_t(cell) * OrientationClasses + size_t(orientation)])] *
+           luminance(bsdf.eval(y.wo, n, TransportMode::Radiance).f);
+  }
   float sum = 0;
   for (int k = 0; k < bins(); ++k)
     if (qy[k] > 0)
@@ -156,23 +171,25 @@ void QLearning::learn(const TileRecords& records) {
 std::vector<std::string> QLearning::statistics() const {
   size_t cells = size_t(res_[0]) * size_t(res_[1]) * size_t(res_[2]), tables = q_.size() / size_t(bins());
   char line[240];
-  std::snprintf(line, sizeof line,
-                "q-learning: grid %d x %d x %d, %d bins per table, %zu tables learned (of %zu cells x %d orientations), "
-                "%llu updates",
-                res_[0], res_[1], res_[2], bins(), tables, cells, OrientationClasses, (unsigned long long)updates_);
+  std::snprintf(
+      line, sizeof line,
+      "q-learning: grid %d x %d x %d, %d bins per table, %zu tables learned (of %zu cells x %d orientations), "
+      "%llu updates",
+      res_[0], res_[1], res_[2], bins(), tables, cells, OrientationClasses, (unsigned long long)updates_);
   return {line};
 }
 
+// The density the guide samples there: the table's Q·cos shares (0 while
+// the table does not guide yet).
 Image QLearning::densityImage(const Vec3& p, int orientation, int height) const {
   Image img(2 * height, height);
-  const float* qp = q(cellOf(p), orientation);
-  float total = 0;
-  for (int k = 0; qp && k < bins(); ++k) total += qp[k];
+  const float* c = cdf(cellOf(p), orientation);
+  float total = c ? c[bins() - 1] : 0.f;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < 2 * height; ++x) {
-      Vec2 c{(float(y) + 0.5f) / float(height), (float(x) + 0.5f) / float(2 * height)};
-      int k = binOf(directionFromSquare(c));
-      img.at(x, y) = Color(total > 0 ? qp[k] / total * float(bins()) / FourPi : 0.f);
+      int k = binOf(directionFromSquare({(float(y) + 0.5f) / float(height), (float(x) + 0.5f) / float(2 * height)}));
+      float w = total > 0 ? c[k] - (k > 0 ? c[k - 1] : 0.f) : 0.f;
+      img.at(x, y) = Color(total > 0 ? w / total * float(bins()) / FourPi : 0.f);
     }
   return img;
 }

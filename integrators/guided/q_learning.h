@@ -82,13 +82,14 @@ class QLearning final : public GuidingMethod {
   Vec3 lo_, cellSize_;
   int res_[3];
   int rows_, cols_;
-  std::vector<Vec3> centers_;    // each bin's central direction
+  std::vector<Vec3> centers_;                 // each bin's central direction
   size_t tableOf(int cell, int orientation);  // allocates on first use
   void buildTables();
-  std::vector<int32_t> slot_;    // per cell and orientation: its table in q_, or −1
-  std::vector<float> q_;         // tables × bins
+  std::vector<int32_t> slot_;  // per cell and orientation: its table in q_, or −1
+  std::vector<float> q_;       // tables × bins
   std::vector<uint32_t> visits_;
-  std::vector<float> cdf_;          // tables × bins, cumulative Q·cos
+  std::vector<float> cdf_;            // tables × bins, cumulative Q·cos (0 while a table does not guide)
+  std::vector<float> valueTotal_;     // per table, Σ Q·cos (for the learned value, gate or not)
   std::vector<int> slotOrientation_;  // each table's orientation class
   uint64_t updates_ = 0;
 };

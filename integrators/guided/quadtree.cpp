@@ -1,4 +1,5 @@
 #include "integrators/guided/quadtree.h"
+
 #include <algorithm>
 
 namespace lb::guiding {

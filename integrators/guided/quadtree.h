@@ -40,7 +40,7 @@ class QuadTree {
 
  private:
   struct Node {
-    std::array<float, 4> energy{};   // quadrant q = x-half + 2·y-half
+    std::array<float, 4> energy{};    // quadrant q = x-half + 2·y-half
     std::array<uint32_t, 4> child{};  // 0: the quadrant is a leaf
   };
   int depth(uint32_t node) const;

@@ -1,4 +1,5 @@
 #include "integrators/guided/sd_tree.h"
+
 #include <cmath>
 #include <cstdio>
 #include "integrators/guided/sphere_map.h"
@@ -101,8 +102,9 @@ std::vector<std::string> SdTree::statistics() const {
   for (const Leaf& l : leaves_)
     for (const QuadTree& q : l.sampling) nodes += q.nodeCount(), deepest = std::max(deepest, q.depth());
   char line[200];
-  std::snprintf(line, sizeof line, "sd-tree: %zu spatial leaves, %zu quadtree nodes (%.1f per leaf), deepest quadtree %d",
-                leaves_.size(), nodes, double(nodes) / double(leaves_.size()), deepest);
+  std::snprintf(line, sizeof line,
+                "sd-tree: %zu spatial leaves, %zu quadtree nodes (%.1f per leaf), deepest quadtree %d", leaves_.size(),
+                nodes, double(nodes) / double(leaves_.size()), deepest);
   return {line};
 }
 

@@ -11,7 +11,10 @@
 //    iteration and the one being built from its records. A record adds the
 //    luminance of the incident radiance estimate divided by the density of the
 //    direction that found it, L_i / p(ω), which is what makes the recorded
-//    energy of a region an estimate of ∫ L_i over it (their §4). After the
+//    energy of a region an estimate of ∫ L_i over it (their §4). L_i is what
+//    the rest of the path brought back, so an emitter the direction hit
+//    counts with its MIS weight against the vertex's own light samples:
+//    light that NEE finds there is not learned. After the
 //    iteration the built tree is sampled, and a refined, empty structure
 //    (ρ = `subdivision_threshold`, depth ≤ `max_quadtree_depth`) is built.
 //  * Iterations (§5): iteration k renders 2^k samples per pixel; the
@@ -26,8 +29,8 @@
 namespace lb::guiding {
 
 struct SdTreeSettings {
-  int trainingIterations = 5;       // iterations of 1, 2, 4, … spp before the final image
-  float spatialThreshold = 12000;   // c
+  int trainingIterations = 5;          // iterations of 1, 2, 4, … spp before the final image
+  float spatialThreshold = 12000;      // c
   float subdivisionThreshold = 0.01f;  // ρ
   int maxQuadTreeDepth = 20;
 };
@@ -63,8 +66,8 @@ class SdTree final : public GuidingMethod {
   void split(uint32_t node, int axis, float threshold);
 
   SdTreeSettings settings_;
-  Vec3 lo_, size_;             // the cube
-  std::vector<Node> nodes_;    // nodes_[0]: the root
+  Vec3 lo_, size_;           // the cube
+  std::vector<Node> nodes_;  // nodes_[0]: the root
   std::vector<Leaf> leaves_;
 };
 

@@ -18,6 +18,10 @@ class PathTracer final : public PixelIntegrator {
   ~PathTracer() override;
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
+  // Adaptive sampling runs pixel by pixel, on the single-ray engine.
+  std::string adaptiveRefusal() const override {
+    return wavefront_ ? "engine: wavefront traces whole passes; use engine: single_ray" : "";
+  }
   const PathEstimator& estimator() const { return estimator_; }
 
  protected:

@@ -112,7 +112,9 @@ struct PathState {
 // What a path's vertices share: the scene, the sampler (started for the
 // path's pixel and sample), the length limit and where its dimensions begin;
 // and, for the `guided` integrator, the learned direction distribution
-// (direction_guide.h), which shadeVertex prepares at each vertex.
+// (direction_guide.h), which shadeVertex prepares at each vertex and weighs
+// light samples against. A caller that sets it must pass it to scatter() as
+// well, or directions would be drawn without it and weighted as if with it.
 struct PathContext {
   const Scene& scene;
   Sampler& sampler;

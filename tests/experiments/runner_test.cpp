@@ -463,6 +463,17 @@ TEST_F(Runner, DenoisedSnapshotsAreLoggedBesideTheRawOnes) {
     EXPECT_TRUE(std::isfinite(std::stod(denoised[i].at("rmse"))));
     EXPECT_NE(denoised[i].at("rmse"), raw[i].at("rmse"));
   }
+  // The same experiment without the filter: the raw rows' errors are the same.
+  std::string plain = text;
+  plain.replace(plain.find(", denoise: nlmeans"), std::string(", denoise: nlmeans").size(), "");
+  std::ofstream(dir_ / "plain.yaml") << plain;
+  Experiment p = loadExperiment((dir_ / "plain.yaml").string(), {});
+  CsvTable plainLog = readCsv(fs::path(runExperiment(p, o)) / "log.csv");
+  ASSERT_EQ(plainLog.rows.size(), raw.size());
+  for (size_t i = 0; i < raw.size(); ++i) {
+    EXPECT_EQ(plainLog.rows[i].at("rmse"), raw[i].at("rmse"));
+    EXPECT_EQ(plainLog.rows[i].at("spp"), raw[i].at("spp"));
+  }
   EXPECT_TRUE(fs::exists(run / "scene__mis---nlmeans.png"));
   nlohmann::json meta = nlohmann::json::parse(readFile(run / "meta.json"));
   bool found = false;

@@ -28,8 +28,10 @@ QuadTree trainedTree(int maxDepth) {
     for (int i = 0; i < 40000; ++i) {
       float pick = rng.next1D();
       Vec2 c = rng.next2D();
-      if (pick < 0.5f) c = Vec2(0.3f, 0.7f) + 0.02f * c;       // a small bright spot
-      else if (pick < 0.8f) c = Vec2(0.8f, 0.1f) + 0.1f * c;  // a larger one
+      if (pick < 0.5f)
+        c = Vec2(0.3f, 0.7f) + 0.02f * c;  // a small bright spot
+      else if (pick < 0.8f)
+        c = Vec2(0.8f, 0.1f) + 0.1f * c;  // a larger one
       tree.record(glm::min(c, Vec2(OneMinusEpsilon)), 1.f);
     }
     if (round < 2) tree = tree.refined(0.01f, maxDepth);
