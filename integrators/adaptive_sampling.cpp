@@ -8,6 +8,7 @@ namespace {
 constexpr double RelativeEpsilon = 0.01;  // as relMSE's (experiments/metrics.h)
 constexpr double UniformShare = 0.1;      // of each pass, spread over every pixel
 constexpr double MaxWeightRatio = 16;     // a pixel's weight, at most this times the mean
+constexpr int SmoothingRadius = 2;        // σ² and m averaged over 5 × 5 pixels
 }  // namespace
 
 AdaptiveSettings AdaptiveSettings::read(Params& p) {
@@ -47,22 +48,40 @@ bool AdaptiveSampling::renderPass(const Scene& scene, PixelIntegrator& integrato
 std::vector<uint32_t> AdaptiveSampling::plan() const {
   Image mean = deciding_.image(), variance = deciding_.varianceOfMean();
   const size_t pixels = drawn_.size();
+  // Per pixel, from the deciding half: the per-sample variance σ² (the
+  // variance of its mean times its count) and the mean luminance.
+  std::vector<double> sampleVariance(pixels, 0.0), meanLuminance(pixels, 0.0);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      size_t i = size_t(y) * width_ + x;
+      double n = double(deciding_.samples(x, y));
+      const Color& v = variance.at(x, y);
+      double s2 = (double(v.r) + v.g + v.b) / 3 * n;
+      sampleVariance[i] = n >= 2 && std::isfinite(s2) ? s2 : 0.0;
+      meanLuminance[i] = luminance(mean.at(x, y));
+    }
   std::vector<double> weight(pixels, 0.0);
   std::vector<char> open(pixels, 0);  // not yet at the target
   double total = 0;
   size_t opened = 0;
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x) {
+      // Averaged over the pixel's neighbourhood: a few samples of a
+      // heavy-tailed pixel often show no variance at all (every one missed
+      // the rare bright paths), and that luck would starve it.
+      double s2 = 0, m = 0, taps = 0;
+      for (int v = std::max(0, y - SmoothingRadius); v <= std::min(height_ - 1, y + SmoothingRadius); ++v)
+        for (int u = std::max(0, x - SmoothingRadius); u <= std::min(width_ - 1, x + SmoothingRadius); ++u) {
+          size_t j = size_t(v) * width_ + u;
+          s2 += sampleVariance[j], m += meanLuminance[j], taps += 1;
+        }
+      s2 /= taps, m /= taps;
       size_t i = size_t(y) * width_ + x;
-      double n = double(deciding_.samples(x, y));
-      const Color& v = variance.at(x, y);
-      double varianceOfMean = (double(v.r) + v.g + v.b) / 3;
-      if (!(n >= 2) || !std::isfinite(varianceOfMean)) varianceOfMean = 0;
-      double m = luminance(mean.at(x, y)), scale = std::sqrt(m * m + RelativeEpsilon);
-      if (settings_.targetRelativeError > 0 && std::sqrt(varianceOfMean) / scale < settings_.targetRelativeError)
-        continue;
+      double n = std::max(1.0, double(deciding_.samples(x, y)));
+      double scale = std::sqrt(m * m + RelativeEpsilon);
+      if (settings_.targetRelativeError > 0 && std::sqrt(s2 / n) / scale < settings_.targetRelativeError) continue;
       open[i] = 1, ++opened;
-      weight[i] = std::sqrt(varianceOfMean * n) / scale;  // σ_p / √(m_p² + ε)
+      weight[i] = std::sqrt(s2) / scale;  // σ_p / √(m_p² + ε)
       total += weight[i];
     }
   std::vector<uint32_t> count(pixels, 0);

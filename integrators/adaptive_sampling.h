@@ -22,8 +22,11 @@
 // deviation s_p = σ_p / √(m_p² + 0.01) (the relative error the experiments'
 // relMSE measures, ε = 0.01), σ_p and m_p from the deciding half: the
 // allocation that minimises Σ_p relMSE_p for a fixed total (n_p ∝ s_p, a
-// Lagrange-multiplier argument). σ_p comes from few samples and one outlier
-// inflates it, so s_p is capped at 16 times the mean of the pixels'. A tenth of each pass is spread uniformly, so
+// Lagrange-multiplier argument). σ_p comes from few samples: σ_p² and m_p
+// are averaged over the 5×5 pixels around p (a heavy-tailed pixel's few
+// samples often show no variance at all, and that luck would starve it: on
+// the narrow door scene, unsmoothed, the error tripled), and s_p is capped
+// at 16 times the mean of the pixels' (one firefly would claim a pass). A tenth of each pass is spread uniformly, so
 // every pixel's count grows without bound (the estimate is also consistent)
 // and a pixel whose pilot saw no variance (a caustic not yet found) is not
 // abandoned. Pixels whose estimated relative error σ_p/√(n_p)/√(m_p² + 0.01)

@@ -51,7 +51,7 @@ TEST(AdaptiveSampling, PointLightOverAPlaneIsAnalytic) {
 // the rare bright paths — comes out low.
 TEST(AdaptiveSampling, TheImageIsUnbiasedWhereDecidingFromItsOwnSamplesIsNot) {
   SceneFile sf = loadShippedScene("enclosed-light", 16, 12);
-  const int Seeds = 40, Passes = 64;
+  const int Seeds = 80, Passes = 64;
   RunningStats estimating, deciding, uniform;
   for (int seed = 0; seed < Seeds; ++seed) {
     Params params(YAML::Load("{}"), "<test>", "integrator");
