@@ -152,7 +152,7 @@ Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampl
       if (lastRecorded) {
         GuideVertex& prev = records->back();
         prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
-        if (bsdf) prev.scattered = method_->scatteredValue(guide, si, *bsdf);
+        if (bsdf) prev.scattered = method_->scatteredValue(si, *bsdf);
       }
       Color added = L - before;
       if (!isBlack(added))

@@ -53,11 +53,8 @@ class GuidingMethod {
   // A per-thread view of the learned distribution (direction_guide.h).
   virtual std::unique_ptr<DirectionGuide> makeGuide(float bsdfFraction) const = 0;
   // For bootstrapping methods (Q-learning): the light y scatters toward the
-  // vertex before it, from what is learned at y; `guide` was prepared at y.
-  virtual float scatteredValue(const DirectionGuide& /*guide*/, const SurfaceInteraction& /*y*/,
-                               const BSDF& /*bsdf*/) const {
-    return 0;
-  }
+  // vertex before it (along y.wo), from what is learned at y.
+  virtual float scatteredValue(const SurfaceInteraction& /*y*/, const BSDF& /*bsdf*/) const { return 0; }
   // Learns from one pass's records, in tile order.
   virtual void learn(const TileRecords& records) = 0;
   // Lines for the render's summary (tree or grid statistics).

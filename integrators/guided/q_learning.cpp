@@ -46,21 +46,16 @@ class QGuide final : public DirectionGuide {
 
   // Σ_k Q_k cos θ_k over the bins facing out of the surface.
   float total() const { return cdf_[table_.bins() - 1]; }
-  int cell() const { return cell_; }
-  int orientation() const { return orientation_; }
 
  protected:
   bool prepareAt(const SurfaceInteraction& si, const BSDF&) override {
-    cell_ = table_.cellOf(si.p);
-    orientation_ = orientationClass(si);
-    cdf_ = table_.cdf(cell_, orientation_);
+    cdf_ = table_.cdf(table_.cellOf(si.p), orientationClass(si));
     return cdf_ && total() > 0;
   }
 
  private:
   const QLearning& table_;
   const float* cdf_ = nullptr;
-  int cell_ = 0, orientation_ = 0;
 };
 
 }  // namespace
@@ -134,7 +129,7 @@ std::unique_ptr<DirectionGuide> QLearning::makeGuide(float bsdfFraction) const {
 // (4π/n) Σ_k f(−ω → ω_k) |cos θ_k| Q(y, ω_k): the Bellman target's integral.
 // (Computed from y itself, not from the guide prepared there: a table that
 // does not guide yet, for want of updates, still has a value to pass back.)
-float QLearning::scatteredValue(const DirectionGuide&, const SurfaceInteraction& y, const BSDF& bsdf) const {
+float QLearning::scatteredValue(const SurfaceInteraction& y, const BSDF& bsdf) const {
   if (bsdf.flags() & BSDFSpecular) return 0;  // not guided, not propagated (q_learning.h)
   int cell = cellOf(y.p), orientation = orientationClass(y);
   const float* qy = q(cell, orientation);

@@ -53,7 +53,7 @@ class QLearning final : public GuidingMethod {
   QLearning(const Bounds3& sceneBounds, QLearningSettings settings);
 
   std::unique_ptr<DirectionGuide> makeGuide(float bsdfFraction) const override;
-  float scatteredValue(const DirectionGuide& guide, const SurfaceInteraction& y, const BSDF& bsdf) const override;
+  float scatteredValue(const SurfaceInteraction& y, const BSDF& bsdf) const override;
   void learn(const TileRecords& records) override;
   std::vector<std::string> statistics() const override;
   Image densityImage(const Vec3& p, int orientation, int height) const override;

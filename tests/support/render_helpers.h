@@ -25,7 +25,7 @@ struct RenderSpec {
   uint64_t spp = 16;
   uint64_t seed = 1;
   int threads = 0;            // 0: default
-  AdaptiveSettings adaptive;  // off unless enabled
+  AdaptiveSettings adaptive = {};  // off unless enabled
 };
 struct Rendered {
   std::unique_ptr<Film> film;
