@@ -211,11 +211,14 @@ Image readExrChannels(const std::string& path,
     }
     Image image{int(w), int(h)};
     Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(image.pixels.data()) -
-                 (size_t(dw.min.x) + size_t(dw.min.y) * image.width) * sizeof(Color);
+    // Slice::Make places the data window's origin (which may be negative)
+    // with integer arithmetic: a pointer moved back by it would overflow
+    // (fuzz_exr found one).
+    char* data = reinterpret_cast<char*>(image.pixels.data());
     // A grey image is read once, into red, and copied to green and blue.
     for (int c = 0; c < (grey ? 1 : 3); ++c)
-      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(Color), sizeof(Color) * image.width));
+      fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, data + c * sizeof(float), dw, sizeof(Color),
+                                           sizeof(Color) * size_t(image.width)));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     if (grey)
