@@ -19,8 +19,6 @@
 
 namespace lb {
 
-namespace {
-
 std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
   std::string line;
@@ -34,6 +32,8 @@ std::string hostName() {
   gethostname(buf, sizeof buf - 1);
   return buf;
 }
+
+namespace {
 
 std::string write(const RunMeta& m, const Experiment& e, bool finished) {
   using nlohmann::json;
@@ -51,6 +51,7 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
   j["machine"] = {{"host", hostName()}, {"cpu", cpuModel()}, {"cores", std::thread::hardware_concurrency()}};
   j["threads_per_run"] = m.threadsPerRun;
   j["jobs"] = m.jobs;
+  j["ranks"] = m.ranks;  // MPI ranks (1: a single process); each row names its host and threads
   j["budget"] = {{"seconds", e.budget.seconds}, {"spp", e.budget.spp}};
   j["repeats"] = e.repeats;
   j["seeds"] = json::array();

@@ -9,7 +9,7 @@ namespace lb {
 
 struct RunMeta {
   std::string started;
-  int threadsPerRun = 0, jobs = 1;
+  int threadsPerRun = 0, jobs = 1, ranks = 1;
   std::map<std::string, std::string> referenceKeys;
   std::map<std::string, std::string> referenceUsed;  // the reference as used: chunks, spp, seconds
   std::map<std::string, double> referenceRmseFloor;  // sqrt of the reference's mean variance
@@ -19,6 +19,9 @@ struct RunMeta {
 RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs,
                   const std::string& experimentHash);
 void finishMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir);
+// This machine, as meta.json and the log's host and cpu columns name it.
+std::string hostName();
+std::string cpuModel();
 // The experiment_hash of a run folder's meta.json ("" if it has none or the
 // file is not JSON): what --resume compares.
 std::string readExperimentHash(const std::string& runDir);

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 #include "core/scene_loader.h"
+#include "experiments/chunks.h"
 #include "experiments/run_lock.h"
 #include "render_source_hash.h"
 #include "integrators/registry.h"
@@ -93,62 +94,6 @@ std::string referenceBudget(const ReferenceSpec& r) {
 
 namespace {
 
-// The running mean and sum of squared deviations over chunks, per pixel and
-// channel (Welford's update, in chunk order: the same chunks give the same
-// result whatever the thread count).
-struct ChunkAccumulator {
-  int width = 0, height = 0;
-  uint64_t chunks = 0;
-  std::vector<glm::dvec3> mean, m2;
-
-  ChunkAccumulator(int w, int h) : width(w), height(h), mean(size_t(w) * h, glm::dvec3(0)), m2(mean) {}
-  void add(const Image& chunk) {
-    ++chunks;
-    for (size_t i = 0; i < mean.size(); ++i) {
-      glm::dvec3 x(chunk.pixels[i]);
-      glm::dvec3 d = x - mean[i];
-      mean[i] += d / double(chunks);
-      m2[i] += d * (x - mean[i]);
-    }
-  }
-  Image meanImage() const {
-    Image out(width, height);
-    for (size_t i = 0; i < mean.size(); ++i) out.pixels[i] = Color(mean[i]);
-    return out;
-  }
-  // The variance of the mean of the chunks: the sample variance across chunks
-  // divided by their number. Needs two chunks.
-  Image varianceOfMeanImage() const {
-    Image out(width, height);
-    double scale = chunks > 1 ? 1.0 / (double(chunks - 1) * double(chunks)) : 0.0;
-    for (size_t i = 0; i < m2.size(); ++i) out.pixels[i] = Color(m2[i] * scale);
-    return out;
-  }
-  double varianceOfMean() const {
-    if (chunks < 2) return NAN;
-    double sum = 0;
-    for (const auto& v : m2) sum += v.x + v.y + v.z;
-    return sum / (3.0 * double(m2.size()) * double(chunks - 1) * double(chunks));
-  }
-  // Back from the cache: m2 = variance of the mean × n(n − 1).
-  void restore(const Image& meanImage, const Image& varianceOfMean, uint64_t n) {
-    chunks = n;
-    for (size_t i = 0; i < mean.size(); ++i) {
-      mean[i] = glm::dvec3(meanImage.pixels[i]);
-      m2[i] = glm::dvec3(varianceOfMean.pixels[i]) * (double(n) * double(n - 1));
-    }
-  }
-};
-
-// Chunk k's seed: mixed (splitmix64), so no chunk shares a seed with a run
-// (runs use seed + 7919·repeat) or with another chunk.
-uint64_t chunkSeed(uint64_t seed, uint64_t k) {
-  uint64_t z = seed + 0x9e3779b97f4a7c15ULL * (k + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 // Fewest chunks before a noise floor is trusted: the variance across chunks
 // has chunks − 1 degrees of freedom per pixel, and a caustic's noise is
 // heavy-tailed (a few pixels hold most of it), so a handful of chunks
@@ -172,7 +117,25 @@ std::string fileHash(const std::filesystem::path& a, const std::filesystem::path
 
 }  // namespace
 
-Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot, const std::string& key) {
+SceneFile loadReferenceScene(const ExperimentScene& s) {
+  SceneLoadOptions quiet;
+  quiet.quiet = true;  // validateExperiment printed the scene's import warnings
+  return loadScene(referenceScene(s), referenceOverrides(s), quiet);
+}
+
+RenderedChunk renderReferenceChunk(const ExperimentScene& s, const SceneFile& sf, uint64_t k) {
+  // A new integrator per chunk: chunks are independent renders (a
+  // progressive integrator's state would otherwise carry over). For a
+  // consistent one (allowed with allow_biased_reference) each chunk is its
+  // own chunk_spp-pass render, so its bias is that of chunk_spp passes,
+  // however many chunks are averaged.
+  Params params(withSharedIntegratorKeys(sf, s.reference.params), s.path, "reference.params");
+  auto integrator = makeIntegrator(s.reference.integrator, params);
+  return renderChunk(*sf.scene, *integrator, sf.sampler, s.reference.seed, k, s.reference.chunkSpp);
+}
+
+Reference obtainReference(const ExperimentScene& s, const std::string& resultsRoot, const std::string& key,
+                          const RemoteChunks* remote) {
   if (!s.reference.file.empty()) {
     std::cerr << "reference: " << s.reference.file << " (given)\n";
     Reference r;
@@ -186,9 +149,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
   std::string stem = referenceName(s) + "-" + key;
   CachePaths cache{dir / (stem + ".exr"), dir / (stem + ".variance.exr"), dir / (stem + ".yaml")};
 
-  SceneLoadOptions quiet;
-  quiet.quiet = true;  // validateExperiment printed the scene's import warnings
-  SceneFile sf = loadScene(referenceScene(s), referenceOverrides(s), quiet);
+  SceneFile sf = loadReferenceScene(s);
   const int width = sf.scene->camera.width(), height = sf.scene->camera.height();
   ChunkAccumulator acc(width, height);
   double seconds = 0;
@@ -244,22 +205,11 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
             << spec.integrator << "' to " << referenceBudget(spec) << " in chunks of " << spec.chunkSpp
             << " spp (cached as " << cache.mean.string() << "; an interrupted render keeps its finished chunks)\n";
   if (acc.chunks == 0) seconds = sf.scene->buildSeconds();
-  while (!budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
-    // A new integrator per chunk: chunks are independent renders (a
-    // progressive integrator's state would otherwise carry over). For a
-    // consistent one (allowed with allow_biased_reference) each chunk is its
-    // own chunk_spp-pass render, so its bias is that of chunk_spp passes,
-    // however many chunks are averaged.
-    Params params(withSharedIntegratorKeys(sf, spec.params), s.path, "reference.params");
-    auto integrator = makeIntegrator(spec.integrator, params);
-    Film film(width, height);
-    RenderOptions options;
-    options.seed = chunkSeed(spec.seed, acc.chunks);
-    options.budget.spp = spec.chunkSpp;
-    RenderReport rep = renderLoop(*sf.scene, *integrator, film, sf.sampler, options);
-    acc.add(film.image());
-    seconds += rep.seconds;
-    nonFinite += rep.nonFinite;
+  // Each chunk as it comes, in chunk order; false once the budget is met.
+  auto take = [&](RenderedChunk&& chunk) {
+    acc.add(chunk.image);
+    seconds += chunk.seconds;
+    nonFinite += chunk.nonFinite;
 
     // Saved after every chunk: the mean and variance images first, then the
     // sidecar naming their hash (a write cut between them is detected above).
@@ -296,6 +246,15 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
       line << " → " << spec.noiseFloor << ", about " << std::setprecision(3)
            << seconds * (v / (double(spec.noiseFloor) * spec.noiseFloor) - 1) << " s more";
     std::cerr << line.str() << "\n";
+    return !budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean());
+  };
+  // A sample budget knows its last chunk; a time or noise budget is checked after each.
+  uint64_t end = spec.spp > 0 ? std::max<uint64_t>(1, (spec.spp + spec.chunkSpp - 1) / spec.chunkSpp) : OpenEnded;
+  if (!budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) {
+    if (remote)
+      renderChunksOnFarm(remote->farm, acc.chunks, end, remote->task, take);
+    else
+      renderChunksHere(acc.chunks, end, [&](uint64_t k) { return renderReferenceChunk(s, sf, k); }, take);
   }
   return result("rendered");
 }

@@ -8,8 +8,11 @@
 // independent seeded chunks (issue 13), <key>.exr holds their mean and
 // <key>.variance.exr its per-pixel variance (across chunks, divided by their
 // number), and a larger budget later adds chunks to the cached ones.
+#include <functional>
 #include <string>
+#include "core/scene_loader.h"
 #include "core/image.h"
+#include "experiments/chunks.h"
 #include "experiments/experiment.h"
 
 namespace lb {
@@ -32,8 +35,23 @@ struct Reference {
   // What was used: integrator, chunks, samples, seconds (for meta.json).
   std::string description;
 };
+// The missing chunks rendered by a farm's workers (issue 19): task(k) makes a
+// worker call renderReferenceChunk(scene, …, k) and answer with chunkResult.
+// The cache then holds the same bits as a single process would write.
+struct RemoteChunks {
+  Farm& farm;
+  std::function<std::string(uint64_t)> task;
+};
+
 // Loads or renders (and caches under `key`, the scene's referenceKey) the
-// reference; reports what it did on stderr.
-Reference obtainReference(const ExperimentScene& scene, const std::string& resultsRoot, const std::string& key);
+// reference; reports what it did on stderr. Only this process writes the
+// cache, whoever renders the chunks.
+Reference obtainReference(const ExperimentScene& scene, const std::string& resultsRoot, const std::string& key,
+                          const RemoteChunks* remote = nullptr);
+
+// A worker's side: the scene a reference is rendered from (with its
+// overrides), and chunk k of it.
+SceneFile loadReferenceScene(const ExperimentScene& scene);
+RenderedChunk renderReferenceChunk(const ExperimentScene& scene, const SceneFile& sceneFile, uint64_t k);
 
 }  // namespace lb

@@ -1,7 +1,11 @@
 #!/usr/bin/python3
 """Plots and an HTML report for one experiment run.
 
-    /usr/bin/python3 experiments/report.py results/NAME/RUN-ID[/log.csv]
+    /usr/bin/python3 experiments/report.py results/NAME/RUN-ID[/log.csv] [--mixed-machines]
+
+Runs of one scene timed on different kinds of machine (the log's cpu and
+threads columns: an MPI sweep over a mixed cluster) are refused (exit 3)
+unless --mixed-machines is given.
 
 Works on any log.csv (plots only); with the run's meta.json beside it, it
 also writes a self-contained report.html: every image embedded, and an
@@ -173,15 +177,36 @@ def write_report(run_dir, grouped, meta):
     return out, files
 
 
+def machine_kinds(rows):
+    """scene -> the kinds of machine its runs were timed on: (cpu, threads).
+    Logs written before the columns existed have one unnamed kind."""
+    kinds = {}
+    for r in rows:
+        kinds.setdefault(r["scene"], set()).add((r.get("cpu") or "", r.get("threads") or ""))
+    return kinds
+
+
 def main(argv):
-    if len(argv) != 2:
+    mixed = "--mixed-machines" in argv[1:]
+    args = [a for a in argv[1:] if a != "--mixed-machines"]
+    if len(args) != 1:
         print(__doc__, file=sys.stderr)
         return 2
-    log = argv[1]
+    log = args[0]
     if os.path.isdir(log):
         log = os.path.join(log, "log.csv")
     run_dir = os.path.dirname(os.path.abspath(log))
-    grouped = group(read_log(log))
+    rows = read_log(log)
+    # Equal-time comparisons hold only between runs timed alike (issue 19):
+    # an MPI sweep over a heterogeneous cluster is refused unless asked for.
+    for scene, kinds in machine_kinds(rows).items():
+        if len(kinds) > 1 and not mixed:
+            named = "; ".join(f"{cpu or 'unknown cpu'} with {threads or '?'} threads" for cpu, threads in sorted(kinds))
+            print(f"report: {log}: runs of scene '{scene}' were timed on {len(kinds)} kinds of machine ({named}); "
+                  "their times cannot be compared. Rerun on one kind, or pass --mixed-machines "
+                  "(lightbench run --mixed-machines) to compare them anyway", file=sys.stderr)
+            return 3
+    grouped = group(rows)
     if not grouped:
         print(f"report: no complete rows in {log}", file=sys.stderr)
         return 1

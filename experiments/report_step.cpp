@@ -39,7 +39,7 @@ int spawn(const std::vector<std::string>& argv, const std::string& pythonPath) {
 
 }  // namespace
 
-std::string runReportScript(const std::string& interpreter, const std::string& runDir) {
+std::string runReportScript(const std::string& interpreter, const std::string& runDir, bool mixedMachines) {
   const std::string packageDir = LIGHTBENCH_PYTHON_DIR;
   int probe = spawn({interpreter, "-c", "import matplotlib, numpy"}, packageDir);
   if (probe == -1 || probe == 127)
@@ -48,7 +48,9 @@ std::string runReportScript(const std::string& interpreter, const std::string& r
   if (probe != 0)
     return "'" + interpreter + "' has no matplotlib or numpy (scripts/install-deps.sh installs python3-matplotlib "
            "for /usr/bin/python3; or choose another with --python)";
-  int status = spawn({interpreter, std::string(LIGHTBENCH_SOURCE_DIR) + "/experiments/report.py", runDir}, packageDir);
+  std::vector<std::string> command = {interpreter, std::string(LIGHTBENCH_SOURCE_DIR) + "/experiments/report.py", runDir};
+  if (mixedMachines) command.push_back("--mixed-machines");
+  int status = spawn(command, packageDir);
   if (status != 0) return "the report script exited with status " + std::to_string(status);
   return "";
 }

@@ -14,6 +14,8 @@ std::string reportInterpreter(const std::string& python);
 // PYTHONPATH (the report reads EXRs through it). Returns "" on success, else
 // one line saying what failed (the interpreter missing, matplotlib missing,
 // the script's exit status).
-std::string runReportScript(const std::string& interpreter, const std::string& runDir);
+// With `mixedMachines`, runs timed on different kinds of machines (the log's
+// cpu and threads columns) are compared anyway; else the report refuses.
+std::string runReportScript(const std::string& interpreter, const std::string& runDir, bool mixedMachines = false);
 
 }  // namespace lb

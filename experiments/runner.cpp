@@ -16,13 +16,13 @@
 #include <set>
 #include <sstream>
 #include <thread>
-#include "core/aov.h"
-#include "core/denoise.h"
 #include "core/scene_loader.h"
 #include "experiments/decomposition.h"
 #include "experiments/meta.h"
 #include "experiments/reference.h"
 #include "experiments/run_lock.h"
+#include "experiments/run_log.h"
+#include "experiments/run_one.h"
 #include "experiments/validate.h"
 #include "integrators/registry.h"
 
@@ -30,121 +30,13 @@ namespace fs = std::filesystem;
 
 namespace lb {
 
-const char* const LogColumns[] = {"scene", "label", "integrator", "repeat", "seed", "time_s", "preprocess_s", "spp",
-                                  "rmse", "relmse", "mape", "variance", "nonfinite", "rmse_crop", "relmse_crop",
-                                  "mape_crop", "over_budget_s", "final", nullptr};
-
 namespace {
-
-// Jittered first-hit rays per pixel for the denoiser's features (core/aov.h).
-constexpr int DenoiseFeatureSamples = 16;
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-// Splits one CSV line (RFC 4180 quoting); returns false on a torn line.
-bool parseCsvLine(const std::string& line, std::vector<std::string>& out) {
-  out.clear();
-  std::string field;
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') field += '"', ++i;
-      else if (c == '"') quoted = false;
-      else field += c;
-    } else if (c == '"') quoted = true;
-    else if (c == ',') out.push_back(field), field.clear();
-    else field += c;
-  }
-  out.push_back(field);
-  return !quoted;
-}
-
-size_t columnCount() {
-  size_t n = 0;
-  while (LogColumns[n]) ++n;
-  return n;
-}
-
-std::string runKey(const std::string& scene, const std::string& label, const std::string& repeat) {
-  return scene + "\x1f" + label + "\x1f" + repeat;
-}
-
-// log.csv, appended and flushed row by row. On resume, rows of runs that did
-// not finish (no final row) and torn lines are dropped; finished runs stay.
-class LogWriter {
- public:
-  LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) {
-    std::vector<std::string> kept;
-    if (resume && fs::exists(path)) {
-      std::ifstream in(path);
-      std::string line;
-      std::vector<std::vector<std::string>> rows;
-      std::getline(in, line);  // header
-      std::vector<std::string> f;
-      while (std::getline(in, line))
-        if (parseCsvLine(line, f) && f.size() == columnCount()) rows.push_back(f), kept.push_back(line);
-      for (const auto& r : rows)
-        if (r.back() == "1") completed->insert(runKey(r[0], r[1], r[3]));
-      std::vector<std::string> filtered;
-      for (size_t i = 0; i < rows.size(); ++i)
-        if (completed->count(runKey(rows[i][0], rows[i][1], rows[i][3]))) filtered.push_back(kept[i]);
-      kept = filtered;
-    }
-    std::string header;
-    for (size_t i = 0; LogColumns[i]; ++i) header += (i ? "," : "") + std::string(LogColumns[i]);
-    std::string content = header + "\n";
-    for (const auto& l : kept) content += l + "\n";
-    writeTextFile(path, content);
-    out_.open(path, std::ios::app);
-  }
-  void write(const std::vector<std::string>& fields) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (size_t i = 0; i < fields.size(); ++i) out_ << (i ? "," : "") << csvField(fields[i]);
-    out_ << "\n";
-    out_.flush();
-  }
-
- private:
-  std::ofstream out_;
-  std::mutex mutex_;
-};
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
 
 std::string formatDuration(double s) {
   char buf[32];
   if (s < 60) std::snprintf(buf, sizeof buf, "%.0fs", s);
   else std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
   return buf;
-}
-
-struct RunTask {
-  size_t scene, config;
-  int repeat;
-};
-
-// Snapshot points: log- or linearly spaced in time (time budget) or in passes.
-std::vector<double> snapshotPoints(const Experiment& e) {
-  double total = e.budget.seconds > 0 ? e.budget.seconds : double(e.budget.spp);
-  std::vector<double> points;
-  for (int k = 0; k < e.snapshots; ++k) {
-    double t = e.spacing == SnapshotSpacing::Log ? total * std::pow(2.0, k - (e.snapshots - 1))
-                                                 : total * (k + 1) / e.snapshots;
-    if (e.budget.seconds <= 0) t = std::max(1.0, std::round(t));
-    if (points.empty() || t > points.back()) points.push_back(t);
-  }
-  return points;
 }
 
 // The latest run of the experiment, for --resume; empty: start a new one.
@@ -174,11 +66,6 @@ fs::path createRunDir(const Experiment& e, const RunnerOptions& o) {
   return dir;
 }
 
-// Repeat 0's image is <stem>.exr (shown in the report), repeat r's <stem>__repeat<r>.exr.
-std::string repeatImagePath(const std::string& stem, int repeat) {
-  return repeat == 0 ? stem + ".exr" : stem + "__repeat" + std::to_string(repeat) + ".exr";
-}
-
 // decomposition.csv: each configuration's final MSE split into bias² and
 // variance over its repeats, with 95 % intervals (experiments/decomposition.h).
 // Read back from the run folder, so a resumed run includes the earlier runs.
@@ -206,16 +93,52 @@ void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::
       // then includes it (the report says so).
       for (double v : {d.mse, d.bias2, d.bias2Low, d.bias2High, d.variance, d.varianceLow, d.varianceHigh,
                        d.referenceVariance})
-        csv << "," << (std::isfinite(v) ? fmt(v) : "");
+        csv << "," << (std::isfinite(v) ? logNumber(v) : "");
       csv << "\n";
     }
   writeTextFile((runDir / "decomposition.csv").string(), csv.str());
+}
+
+// Tasks a farm's worker is given (experiments/cluster.h), by kind.
+enum TaskKind : uint64_t { ReferenceChunkTask = 1, RunTaskKind = 2 };
+
+// Threads per run: --threads, else the cores this process may use shared
+// among the runs at once (--jobs) or the workers on this node.
+int threadsPerRun(const RunnerOptions& o, int sharers) {
+  if (o.threads > 0) return o.threads;
+  return std::max(1, tbb::info::default_concurrency() / std::max(1, sharers));
+}
+
+MachineColumns thisMachine(int threads) { return {hostName(), cpuModel(), threads}; }
+
+std::string encodeRunResult(const std::vector<std::vector<std::string>>& rows, const RunOutcome& out) {
+  ByteWriter w;
+  w.u64(rows.size());
+  for (const auto& r : rows) {
+    w.u64(r.size());
+    for (const auto& f : r) w.str(f);
+  }
+  w.image(out.image).u64(out.denoised ? 1 : 0);
+  if (out.denoised) w.image(*out.denoised);
+  return w.take();
+}
+
+void decodeRunResult(const std::string& bytes, std::vector<std::vector<std::string>>& rows, RunOutcome& out) {
+  ByteReader r(bytes);
+  rows.resize(r.u64());
+  for (auto& row : rows) {
+    row.resize(r.u64());
+    for (auto& f : row) f = r.str();
+  }
+  out.image = r.image();
+  if (r.u64()) out.denoised = r.image();
 }
 
 }  // namespace
 
 std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   using Clock = std::chrono::steady_clock;
+  Farm* farm = o.farm && o.farm->workers() > 0 ? o.farm : nullptr;
   // Every input first: a bad one fails in seconds, before any reference
   // renders, and leaves no run folder behind.
   CheckedExperiment checked = validateExperiment(e);
@@ -241,8 +164,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     lock.emplace(runDir.string(), e.file);
   }
 
-  // References (rendered with every core) before the run folder exists: a
-  // reference that fails leaves no half-started run.
+  // References (rendered with every core, or by every worker) before the run
+  // folder exists: a reference that fails leaves no half-started run.
   std::vector<Image> references, referenceVariances;
   std::vector<double> referenceFloors;
   std::vector<std::string> referenceDescriptions;
@@ -252,6 +175,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     if (!s.reference.file.empty()) {
       std::cerr << "reference: " << s.reference.file << " (given)\n";
       obtained.image = std::move(checked.givenReferences[si]);
+    } else if (farm) {
+      RemoteChunks remote{*farm, [si](uint64_t k) { return ByteWriter().u64(ReferenceChunkTask).u64(si).u64(k).take(); }};
+      obtained = obtainReference(s, o.resultsRoot, referenceIds[si], &remote);
     } else {
       obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
     }
@@ -266,7 +192,6 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     referenceDescriptions.push_back(obtained.description.empty() ? "file " + s.reference.file : obtained.description);
     referenceFloors.push_back(std::sqrt(obtained.varianceOfMean));
   }
-  std::vector<SceneFile>& scenes = checked.scenes;
 
   std::atomic<size_t> done{0};  // runs finished by this process
   // A new run that fails (an exception, e.g. a photon map too large for
@@ -286,15 +211,16 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     lock.emplace(runDir.string(), e.file);
     discard.dir = runDir;
   }
-  std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "") << "\n";
+  std::cerr << "experiment '" << e.name << "': " << runDir.string() << (o.resume ? " (resuming)" : "")
+            << (farm ? " on " + std::to_string(farm->workers()) + " MPI worker rank(s)" : "") << "\n";
 
   std::set<std::string> completed;
   LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
 
-  int cores = tbb::info::default_concurrency();
-  int jobs = std::max(1, std::min(o.jobs, cores));
-  int threadsPerRun = std::max(1, cores / jobs);
-  RunMeta meta = startMeta(e, runDir.string(), threadsPerRun, jobs, experimentHash);
+  int jobs = farm ? 1 : std::max(1, std::min(o.jobs, tbb::info::default_concurrency()));
+  int threads = threadsPerRun(o, farm ? farm->cluster().workersOnThisNode() : jobs);
+  RunMeta meta = startMeta(e, runDir.string(), threads, jobs, experimentHash);
+  meta.ranks = farm ? farm->cluster().size() : 1;
   for (size_t si = 0; si < e.scenes.size(); ++si) {
     const ExperimentScene& s = e.scenes[si];
     meta.referenceRmseFloor[s.name] = referenceFloors[si];
@@ -317,156 +243,117 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   size_t totalRuns = e.scenes.size() * e.configurations.size() * size_t(e.repeats);
   if (tasks.size() < totalRuns) std::cerr << "resume: " << totalRuns - tasks.size() << " of " << totalRuns << " runs already complete\n";
 
-  std::vector<double> points = snapshotPoints(e);
-  bool timeBudget = e.budget.seconds > 0;
-  std::atomic<size_t> next{0};
-  std::mutex progressMutex;
+  const bool timeBudget = e.budget.seconds > 0;
   auto experimentStart = Clock::now();
-
-  // Each configuration's parameters for each scene (an imported scene's
-  // max_depth added), built here: merging YAML nodes writes to both sides,
-  // so the workers below must only read them.
-  std::vector<std::vector<YAML::Node>> runParams(e.scenes.size());
-  for (size_t si = 0; si < e.scenes.size(); ++si)
-    for (const Configuration& c : e.configurations) runParams[si].push_back(withSharedIntegratorKeys(scenes[si], c.params));
-
-  auto runOne = [&](const RunTask& t) {
-    const ExperimentScene& es = e.scenes[t.scene];
-    const Configuration& c = e.configurations[t.config];
-    const Image& ref = references[t.scene];
-    const Scene& scene = *scenes[t.scene].scene;
-    // An imported scene's max_depth holds for every configuration (the integral it defines).
-    Params params(runParams[t.scene][t.config], e.file, c.context);
-    auto integrator = makeIntegrator(c.integrator, params);
-    if (!c.denoise.empty() && !integrator->independentPasses())
-      throw c.denoiseAt.error("'" + c.integrator + "' has correlated passes, so its film has no per-pixel variance, "
-                              "which the filter measures colour differences in; remove denoise");
-    Film film(scene.camera.width(), scene.camera.height());
-    uint64_t seed = e.seed + uint64_t(t.repeat) * 7919;
-    RenderOptions ro;
-    ro.seed = seed;
-    ro.budget = e.budget;
-    ro.adaptive = c.adaptive;
-    ro.setupSeconds = scene.buildSeconds();  // the BVH, built once per scene, is owed to every run
-    size_t nextPoint = 0;
-    // Seconds beyond a time budget: every integrator renders at least one
-    // pass, so a preprocess longer than the budget overruns it (empty
-    // without a time budget).
-    auto overBudget = [&](double seconds) { return timeBudget ? fmt(std::max(0.0, seconds - e.budget.seconds)) : ""; };
-    // denoise: the first-hit features, rendered once (their time counts in
-    // every denoised snapshot), and the filtered snapshot with its time.
-    std::optional<FirstHitImages> features;
-    double featureSeconds = 0;
-    struct Denoised {
-      Image image;
-      double seconds = 0;  // features + filter
-    };
-    auto denoiseSnapshot = [&]() {
-      auto start = Clock::now();
-      if (!features) {
-        features = renderFirstHitImages(scene, DenoiseFeatureSamples, seed);
-        featureSeconds = std::chrono::duration<double>(Clock::now() - start).count();
-        start = Clock::now();
-      }
-      Denoised d;
-      d.image = denoiseNlMeans(film.image(), film.varianceOfMean(), *features);
-      d.seconds = featureSeconds + std::chrono::duration<double>(Clock::now() - start).count();
-      return d;
-    };
-    auto record = [&](uint64_t passes, double seconds, double preprocess, bool final, const Denoised* denoised) {
-      Image img = film.image();
-      if (denoised) {  // its row first: the raw final row marks the run finished
-        ErrorMetrics dm = computeMetrics(denoised->image, ref, e.metricSettings);
-        ErrorMetrics dc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(denoised->image, ref, e.metricSettings, es.crop);
-        log.write({es.name, c.denoisedLabel(), c.integrator, std::to_string(t.repeat), std::to_string(seed),
-                   fmt(seconds + denoised->seconds), fmt(preprocess), std::to_string(passes), fmt(dm.rmse),
-                   fmt(dm.relMse), fmt(dm.mape), fmt(std::nan("")), std::to_string(film.nonFiniteCount()),
-                   es.crop.empty() ? "" : fmt(dc.rmse), es.crop.empty() ? "" : fmt(dc.relMse),
-                   es.crop.empty() ? "" : fmt(dc.mape), overBudget(seconds), final ? "1" : "0"});
-      }
-      ErrorMetrics m = computeMetrics(img, ref, e.metricSettings);
-      ErrorMetrics mc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(img, ref, e.metricSettings, es.crop);
-      log.write({es.name, c.label, c.integrator, std::to_string(t.repeat), std::to_string(seed), fmt(seconds),
-                 fmt(preprocess), std::to_string(passes), fmt(m.rmse), fmt(m.relMse), fmt(m.mape),
-                 fmt(film.meanVarianceOfMean()), std::to_string(film.nonFiniteCount()),
-                 es.crop.empty() ? "" : fmt(mc.rmse), es.crop.empty() ? "" : fmt(mc.relMse),
-                 es.crop.empty() ? "" : fmt(mc.mape), overBudget(seconds), final ? "1" : "0"});
-      std::lock_guard<std::mutex> lock(progressMutex);
-      double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
-      // Per run: the time budget, or (sample budgets) the mean of finished runs.
-      double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
-      double eta = perRun > 0 ? perRun * double(tasks.size() - done) / jobs - (final ? 0 : seconds) : 0;
-      std::string over = timeBudget && seconds > e.budget.seconds
-                             ? " OVER BUDGET by " + fmt(seconds - e.budget.seconds) + "s"
-                             : "";
-      std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s%s  (elapsed %s%s)\n",
-                   done.load() + 1, tasks.size(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1,
-                   final ? points.size() : nextPoint, points.size(), seconds, (unsigned long long)passes, m.rmse,
-                   final ? " final" : "", over.c_str(), formatDuration(elapsed).c_str(),
-                   eta > 0 ? (", ETA " + formatDuration(eta)).c_str() : "");
-    };
-    auto afterPass = [&](const PassProgress& p) {
-      double at = timeBudget ? p.seconds : double(p.passes);
-      bool due = false;
-      while (nextPoint + 1 < points.size() && at >= points[nextPoint]) ++nextPoint, due = true;
-      if (!due) return;
-      std::optional<Denoised> d;
-      if (!c.denoise.empty()) d = denoiseSnapshot();
-      record(p.passes, p.seconds, p.preprocessSeconds, false, d ? &*d : nullptr);
-    };
-    RenderReport rep = renderLoop(scene, *integrator, film, c.sampler ? *c.sampler : scenes[t.scene].sampler, ro, afterPass);
-    // Images first, the final row last: a run counts as finished (for
-    // --resume) only once everything it produces is on disk.
-    std::string stem = (runDir / (es.name + "__" + slug(c.label))).string();
-    std::optional<Denoised> denoised;
-    if (!c.denoise.empty()) denoised = denoiseSnapshot();
-    auto writeImages = [&](const std::string& stem, const Image& img) {
-      writeExr(stem + ".exr", img);
-      writePng(stem + ".png", img);
-      Image err = falseColour(relativeErrorImage(img, ref, e.metricSettings.relEpsilon), 1e-4f, 10.f);
-      writePng(stem + "_error.png", err);
-      if (!es.crop.empty()) {
-        writePng(stem + "_crop.png", cropImage(img, es.crop, 4));
-        writePng(stem + "_error_crop.png", cropImage(err, es.crop, 4));
-      }
-    };
-    // Every repeat's final image, for the bias²/variance split over repeats.
-    if (t.repeat > 0) writeExr(repeatImagePath(stem, t.repeat), film.image());
-    if (t.repeat == 0) writeImages(stem, film.image());
-    if (denoised && t.repeat == 0) writeImages((runDir / (es.name + "__" + slug(c.denoisedLabel()))).string(), denoised->image);
-    record(rep.passes, rep.seconds, rep.preprocessSeconds, true, denoised ? &*denoised : nullptr);
-    ++done;
+  std::mutex progressMutex;
+  auto elapsedText = [&](double runSeconds, bool final) {
+    double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
+    // Per run: the time budget, or (sample budgets) the mean of finished runs.
+    double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
+    int parallel = farm ? farm->workers() : jobs;
+    double eta = perRun > 0 ? perRun * double(tasks.size() - done) / parallel - (final ? 0 : runSeconds) : 0;
+    return "(elapsed " + formatDuration(elapsed) + (eta > 0 ? ", ETA " + formatDuration(eta) : "") + ")";
   };
 
-  std::exception_ptr failure;
-  std::mutex failureMutex;
-  auto worker = [&] {
-    // A task arena takes the floating-point mode of the thread that creates
-    // it: set flush-to-zero first, so every run traces in the same mode.
-    enableFlushToZeroOnAllThreads();
-    tbb::task_arena arena(threadsPerRun);
-    try {
-      for (size_t i; (i = next++) < tasks.size();) arena.execute([&] { runOne(tasks[i]); });
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(failureMutex);
-      if (!failure) failure = std::current_exception();
-      next = tasks.size();  // the other workers stop after their current run
+  if (farm) {
+    // Runs go to whichever worker asks; each comes back whole (its rows and
+    // final images), and is written here: the images first, the rows last,
+    // as a single process does. A worker is sent a scene's reference with
+    // its first run of that scene.
+    std::set<std::pair<int, size_t>> sentReference;
+    size_t next = 0;
+    std::map<int, RunTask> running;
+    farm->distribute(
+        [&](int worker) -> std::optional<std::string> {
+          if (next >= tasks.size()) return std::nullopt;
+          const RunTask& t = tasks[next++];
+          running[worker] = t;
+          ByteWriter w;
+          w.u64(RunTaskKind).u64(t.scene).u64(t.config).u64(uint64_t(t.repeat));
+          bool send = sentReference.insert({worker, t.scene}).second;
+          w.u64(send ? 1 : 0);
+          if (send) w.image(references[t.scene]);
+          return w.take();
+        },
+        [&](int worker, std::string&& bytes) {
+          RunTask t = running.at(worker);
+          std::vector<std::vector<std::string>> rows;
+          RunOutcome outcome;
+          decodeRunResult(bytes, rows, outcome);
+          writeRunImages(runDir.string(), e, t, outcome, references[t.scene]);
+          for (const auto& r : rows) log.write(r);
+          ++done;
+          const std::vector<std::string>& last = rows.back();
+          std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  done on %s (rank %d, %s threads): t=%ss spp=%s RMSE=%s  %s\n",
+                       done.load(), tasks.size(), e.scenes[t.scene].name.c_str(),
+                       ("'" + e.configurations[t.config].label + "'").c_str(), t.repeat + 1, last[17].c_str(), worker,
+                       last[19].c_str(), last[5].c_str(), last[7].c_str(), last[8].c_str(),
+                       elapsedText(0, true).c_str());
+        });
+  } else {
+    RunEnvironment env = makeRunEnvironment(e, checked.scenes, thisMachine(threads));
+    std::atomic<size_t> next{0};
+    auto runOne = [&](const RunTask& t) {
+      const ExperimentScene& es = e.scenes[t.scene];
+      const Configuration& c = e.configurations[t.config];
+      // Rows are logged as they come, but the final ones only after the
+      // images: a run counts as finished (for --resume) only once everything
+      // it produces is on disk.
+      std::vector<std::vector<std::string>> finalRows;
+      RunOutcome outcome = performRun(
+          env, t, references[t.scene],
+          [&](std::vector<std::string>&& row) {
+            if (row.back() == "1") finalRows.push_back(std::move(row));
+            else log.write(row);
+          },
+          [&](const RunProgress& p) {
+            std::lock_guard<std::mutex> guard(progressMutex);
+            std::string over = timeBudget && p.seconds > e.budget.seconds
+                                   ? " OVER BUDGET by " + logNumber(p.seconds - e.budget.seconds) + "s"
+                                   : "";
+            std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s%s  %s\n",
+                         done.load() + 1, tasks.size(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1,
+                         p.snapshot, p.snapshots, p.seconds, (unsigned long long)p.passes, p.rmse,
+                         p.final ? " final" : "", over.c_str(), elapsedText(p.seconds, p.final).c_str());
+          });
+      writeRunImages(runDir.string(), e, t, outcome, references[t.scene]);
+      for (const auto& r : finalRows) log.write(r);
+      ++done;
+    };
+
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    auto worker = [&] {
+      // A task arena takes the floating-point mode of the thread that creates
+      // it: set flush-to-zero first, so every run traces in the same mode.
+      enableFlushToZeroOnAllThreads();
+      tbb::task_arena arena(threads);
+      try {
+        for (size_t i; (i = next++) < tasks.size();) arena.execute([&] { runOne(tasks[i]); });
+      } catch (...) {
+        std::lock_guard<std::mutex> guard(failureMutex);
+        if (!failure) failure = std::current_exception();
+        next = tasks.size();  // the other workers stop after their current run
+      }
+    };
+    if (jobs == 1) worker();
+    else {
+      std::vector<std::thread> pool;
+      for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
+      for (auto& th : pool) th.join();
     }
-  };
-  if (jobs == 1) worker();
-  else {
-    std::vector<std::thread> pool;
-    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
-    for (auto& th : pool) th.join();
+    if (failure) std::rethrow_exception(failure);
   }
-  if (failure) std::rethrow_exception(failure);
   discard.keep = true;
+  // From here to the report is rank 0's alone, whatever the number of ranks
+  // (the README's MPI overhead figures).
+  auto lastRunEnd = Clock::now();
 
   if (e.repeats > 1) writeDecomposition(e, runDir, references, referenceVariances);
   finishMeta(meta, e, runDir.string());
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";
   if (o.report) {
-    std::string problem = runReportScript(reportInterpreter(o.python), runDir.string());
+    std::string problem = runReportScript(reportInterpreter(o.python), runDir.string(), o.mixedMachines);
     if (!problem.empty())
       std::cerr << "warning: no report: " << problem << "; the log is complete: " << (runDir / "log.csv").string()
                 << "\n";
@@ -474,7 +361,60 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       std::cerr << "plot:   " << (runDir / "rmse_vs_time.png").string() << "\nreport: "
                 << (runDir / "report.html").string() << "\n";
   }
+  std::fprintf(stderr, "finish: %.3f s from the last run's end to the finished %s\n",
+               std::chrono::duration<double>(Clock::now() - lastRunEnd).count(), o.report ? "report" : "log");
   return runDir.string();
+}
+
+int serveExperiment(const std::string& experimentFile, const ExperimentOptions& eo, const RunnerOptions& o) {
+  Farm& farm = *o.farm;
+  // Loaded at the first task, which rank 0 sends only once its own checks
+  // passed: a bad input is reported once, by rank 0.
+  std::optional<Experiment> e;
+  std::optional<CheckedExperiment> checked;
+  std::optional<RunEnvironment> env;
+  std::map<size_t, SceneFile> referenceScenes;
+  std::map<size_t, Image> references;
+  const int threads = threadsPerRun(o, farm.cluster().workersOnThisNode());
+  const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
+  enableFlushToZeroOnAllThreads();
+  tbb::task_arena arena(threads);
+  return farm.serve([&](const std::string& bytes) {
+    if (!e) {
+      e = loadExperiment(experimentFile, eo);
+      checked = validateExperiment(*e);
+      env = makeRunEnvironment(*e, checked->scenes, thisMachine(threads));
+    }
+    ByteReader r(bytes);
+    uint64_t kind = r.u64();
+    size_t si = r.u64();
+    const ExperimentScene& es = e->scenes.at(si);
+    std::string result;
+    if (kind == ReferenceChunkTask) {
+      uint64_t k = r.u64();
+      if (!referenceScenes.count(si)) referenceScenes.emplace(si, loadReferenceScene(es));
+      arena.execute([&] { result = chunkResult(k, renderReferenceChunk(es, referenceScenes.at(si), k)); });
+      return result;
+    }
+    RunTask t;
+    t.scene = si;
+    t.config = r.u64();
+    t.repeat = int(r.u64());
+    if (r.u64()) references[si] = r.image();
+    const Configuration& c = e->configurations.at(t.config);
+    std::vector<std::vector<std::string>> rows;
+    arena.execute([&] {
+      RunOutcome outcome = performRun(
+          *env, t, references.at(si), [&](std::vector<std::string>&& row) { rows.push_back(std::move(row)); },
+          [&](const RunProgress& p) {
+            std::fprintf(stderr, "%s%s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s\n",
+                         me.c_str(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1, p.snapshot,
+                         p.snapshots, p.seconds, (unsigned long long)p.passes, p.rmse, p.final ? " final" : "");
+          });
+      result = encodeRunResult(rows, outcome);
+    });
+    return result;
+  });
 }
 
 }  // namespace lb

@@ -38,6 +38,11 @@ class Integrator {
   // False for estimators whose passes are correlated (MLT's chains): their
   // spread over passes is no error estimate, so no variance layer is written.
   virtual bool independentPasses() const { return true; }
+  // Why a render of N passes cannot be split exactly into independent
+  // chunks of passes with their own seeds, averaged (`lightbench render
+  // --distributed`, experiments/chunks.h), or "" if it can: the chunks' mean
+  // must estimate what one render does, with the same bias.
+  virtual std::string splitRefusal() const { return "its passes are not independent"; }
   // Lines for the render's summary about the integrator's own estimates
   // (MLT's normalisation constant and acceptance rates).
   virtual std::vector<std::string> summaryLines() const { return {}; }

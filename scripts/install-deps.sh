@@ -13,6 +13,7 @@ packages=(
   python3-pandas python3-pytest                # lightbench.load_run, its tests
   chromium                                      # the report viewer's headless check
   clang libclang-rt-14-dev  # libFuzzer + sanitizers for scripts/fuzz.sh
+  libopenmpi-dev openmpi-bin  # mpirun -np N lightbench run (optional build: -DLIGHTBENCH_MPI)
 )
 
 missing=()

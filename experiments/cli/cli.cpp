@@ -15,6 +15,9 @@ int withErrorExitCodes(const std::function<int()>& body) {
   } catch (const ConfigError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
+  } catch (const RemoteFailure& e) {  // a worker rank's error, already formatted
+    std::cerr << "error: " << e.what() << "\n";
+    return e.exitCode;
   } catch (const std::bad_alloc&) {
     std::cerr << "error: out of memory (std::bad_alloc)\n";
     return 1;
@@ -26,7 +29,8 @@ int withErrorExitCodes(const std::function<int()>& body) {
 
 std::string versionString() { return std::string("lightbench ") + LIGHTBENCH_VERSION + " (" + LIGHTBENCH_GIT + ")"; }
 
-int lightbenchMain(int argc, char** argv) {
+int lightbenchMain(int argc, char** argv, Farm* farm) {
+  const bool worker = farm && farm->isWorker();
   CLI::App app{"lightbench: a research testbed for light transport.\n"
                "Renders YAML scenes with interchangeable integrators and measures their error against time."};
   app.set_version_flag("--version", versionString());
@@ -82,6 +86,13 @@ int lightbenchMain(int argc, char** argv) {
       ->needs(adaptive)
       ->check(CLI::NonNegativeNumber);
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
+  auto* distributed = render->add_flag(
+      "--distributed", r.distributed,
+      "Render as independent seeded chunks of --chunk-spp passes, averaged in chunk order; under mpirun the chunks "
+      "are spread over the ranks, with the same bits for any number of ranks (path, light, bdpt, direct, vcm mode=bpt)");
+  render->add_option("--chunk-spp", r.chunkSpp, "Passes per chunk with --distributed (default 16; --spp must be a multiple)")
+      ->needs(distributed)
+      ->check(unsignedInteger(1, "passes per chunk"));
   render->add_flag("--strict", r.strict, "An imported (.xml) scene's unsupported elements are errors, not warnings");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
       ->check(positiveFinite(""));
@@ -95,6 +106,9 @@ int lightbenchMain(int argc, char** argv) {
       ->check(intInRange(1, std::numeric_limits<int>::max(), "runs at once"));
   runCmd->add_option("--results", run.results, "Folder for run outputs and cached references (default: results)");
   runCmd->add_flag("--no-report", run.noReport, "Skip the plots and HTML report");
+  runCmd->add_option("--threads", run.threads, "Threads per run (default: the cores shared among the runs at once; under MPI, a node's cores shared among its worker ranks)")
+      ->check(intInRange(1, std::numeric_limits<int>::max(), "threads per run"));
+  runCmd->add_flag("--mixed-machines", run.mixedMachines, "Let the report compare runs timed on different kinds of machines (CPU model or threads; an MPI sweep over a mixed cluster)");
   runCmd->add_option("--python", run.python, "Interpreter for the report (default: $LIGHTBENCH_PYTHON, else /usr/bin/python3); needs matplotlib");
 
   std::string integratorName;
@@ -107,9 +121,18 @@ int lightbenchMain(int argc, char** argv) {
   CLI::App* completion = app.add_subcommand("completion", "Print a shell completion script: source <(lightbench completion bash)");
   completion->add_option("shell", shell, "The shell (bash)")->required()->check(CLI::IsMember({"bash"}));
 
+  r.farm = run.farm = farm;
+  // A worker rank serves rank 0 until told to stop, with rank 0's exit code;
+  // only rank 0 speaks to the user (its parse errors, help and version).
+  auto serve = [&]() -> int {
+    if (app.got_subcommand("run")) return serveExperimentCommand(run);
+    if (app.got_subcommand("render") && r.distributed) return serveRender(r);
+    return farm->serve([](const std::string&) -> std::string { throw std::runtime_error("no work to share"); });
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (worker) return farm->serve([](const std::string&) -> std::string { throw std::runtime_error("no work"); });
     // --help and --version are "errors" with exit code 0.
     if (e.get_exit_code() == 0) return app.exit(e);
     // One line, like every other bad input (CLI11's own exit() adds a second).
@@ -119,6 +142,7 @@ int lightbenchMain(int argc, char** argv) {
     std::cerr << "error: " << message << "\n";
     return 2;
   }
+  if (worker) return serve();
   if (app.got_subcommand("integrators")) {
     return withErrorExitCodes([&] {
       if (!integratorName.empty()) std::cout << formatIntegratorKeys(integratorName, markdown);

@@ -8,6 +8,7 @@
 #include <vector>
 #include "core/film.h"
 #include "core/image.h"
+#include "experiments/cluster.h"
 #include "integrators/render_loop.h"
 
 namespace lb {
@@ -34,6 +35,12 @@ struct RenderArgs {
   bool adaptive = false;               // adaptive sampling (integrators/adaptive_sampling.h)
   int adaptivePasses = 8;
   double adaptiveTarget = 0;
+  // --distributed (issue 19): the render as seeded chunks of chunkSpp passes
+  // (experiments/chunks.h), under MPI spread over the ranks; the same bits
+  // with any number of ranks, one included.
+  bool distributed = false;
+  uint64_t chunkSpp = 16;
+  Farm* farm = nullptr;  // under MPI with more than one rank
 };
 
 // The AOV names --aov accepts.
@@ -44,6 +51,9 @@ const std::vector<std::string>& aovNames();
 int withErrorExitCodes(const std::function<int()>& body);
 
 int runRender(const RenderArgs& args);
+// A worker rank's side of `render --distributed`: renders the chunks rank 0
+// hands out; returns rank 0's exit code.
+int serveRender(const RenderArgs& args);
 
 // A render held in memory: what `lightbench render` writes, before writing
 // (the Python package's render() returns it as an array and a dict).
@@ -67,9 +77,14 @@ struct RunArgs {
   int jobs = 1;
   std::string results = "results";
   std::string python;  // the report's interpreter
+  int threads = 0;     // per run (0: cores / jobs, or a node's cores / its worker ranks)
+  bool mixedMachines = false;
+  Farm* farm = nullptr;  // under MPI with more than one rank
 };
 int runExperimentCommand(const RunArgs& args);
-int lightbenchMain(int argc, char** argv);
+int serveExperimentCommand(const RunArgs& args);  // a worker rank's side
+// `farm`: this process is one of several MPI ranks (experiments/cli/main.cpp).
+int lightbenchMain(int argc, char** argv, Farm* farm = nullptr);
 // The bash completion script for `app` (completion.cpp).
 std::string bashCompletion(const CLI::App& app);
 std::string versionString();

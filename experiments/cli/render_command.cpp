@@ -6,10 +6,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include "core/aov.h"
 #include "core/format.h"
 #include "core/scene_loader.h"
+#include "experiments/chunks.h"
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
 #include "experiments/experiment.h"
@@ -202,6 +204,28 @@ std::vector<ExrLayer> aovLayers(const std::vector<std::string>& wanted, const Sc
   return layers;
 }
 
+// An integrator as prepare() made it, anew: each chunk of a distributed
+// render starts from scratch.
+std::unique_ptr<Integrator> freshIntegrator(const Prepared& job, const RenderArgs& args) {
+  Params params(job.choice.params, args.scene, "integrator");
+  for (const auto& k : job.choice.overridden) params.markOverridden(k);
+  return makeIntegrator(job.choice.name, params, args.scene, job.choice.line);
+}
+
+// --distributed's limits, checked before anything renders.
+void checkDistributed(const Prepared& job, const RenderArgs& args) {
+  if (!args.distributed) return;
+  if (args.seconds > 0) throw flagError("--distributed", "needs --spp: a time budget cannot be split the same way on any number of ranks");
+  if (!args.aovs.empty()) throw flagError("--aov", "not with --distributed (the layers would need their own chunks)");
+  if (args.adaptive) throw flagError("--adaptive", "not with --distributed (adaptive passes depend on earlier ones)");
+  std::string why = job.integrator->splitRefusal();
+  if (!why.empty()) throw flagError("--distributed", job.choice.name + " cannot be split into chunks exactly: " + why);
+  uint64_t spp = args.spp ? args.spp : (job.sf.sceneSpp ? job.sf.sceneSpp : 16);
+  if (spp % args.chunkSpp != 0)
+    throw flagError("--chunk-spp", std::to_string(args.chunkSpp) + " does not divide the " + std::to_string(spp) +
+                                       " spp: every chunk must have the same number of passes");
+}
+
 RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   RenderOptions options;
   options.seed = args.seed;
@@ -216,7 +240,16 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   const Camera& cam = job.sf.scene->camera;
   job.film = std::make_unique<Film>(cam.width(), cam.height());
   const Film& film = *job.film;
-  RenderReport rep = renderLoop(*job.sf.scene, *job.integrator, *job.film, job.sf.sampler, options);
+  RenderReport rep;
+  Image chunkMean;
+  if (args.distributed) {
+    ChunkedRender c = renderChunked(*job.sf.scene, job.sf.sampler, [&] { return freshIntegrator(job, args); },
+                                    args.seed, options.budget.spp, args.chunkSpp, args.farm, options.progress);
+    chunkMean = std::move(c.mean);
+    rep.passes = c.passes, rep.seconds = c.seconds, rep.nonFinite = c.nonFinite, rep.rays = c.rays;
+  } else {
+    rep = renderLoop(*job.sf.scene, *job.integrator, *job.film, job.sf.sampler, options);
+  }
 
   YAML::Node resolved;
   resolved["lightbench"] = versionString();
@@ -239,6 +272,10 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   resolved["spp"] = rep.passes;
   resolved["threads"] = args.threads;
   resolved["seconds"] = rep.seconds;
+  if (args.distributed) {
+    resolved["distributed"]["chunk_spp"] = args.chunkSpp;
+    resolved["distributed"]["ranks"] = args.farm ? args.farm->cluster().size() : 1;
+  }
   if (args.adaptive) {
     resolved["adaptive"]["passes"] = args.adaptivePasses;
     resolved["adaptive"]["target_relative_error"] = args.adaptiveTarget;
@@ -250,10 +287,11 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   for (const std::string& line : integratorSummary) resolved["integrator_summary"].push_back(line);
   YAML::Emitter emitter;
   emitter << resolved;
-  RenderedImage out{film.image(), resolved, std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}, {}};
+  RenderedImage out{args.distributed ? chunkMean : film.image(), resolved, std::string(emitter.c_str()) + "\n", rep, film.firstNonFinite(), {}, {}, {}};
   out.integratorSummary = std::move(integratorSummary);
   out.layers = aovLayers(args.aovs, *job.sf.scene, film, args.seed);
-  for (ExrLayer& layer : job.integrator->extraLayers()) out.layers.push_back(std::move(layer));
+  if (!args.distributed)  // the chunks' integrators are gone; job.integrator rendered nothing
+    for (ExrLayer& layer : job.integrator->extraLayers()) out.layers.push_back(std::move(layer));
   // The EXR carries what made it: a file copied away from its .config.yaml still says.
   out.attributes = {{"lightbench/version", versionString()},
                     {"lightbench/scene", args.scene},
@@ -284,6 +322,10 @@ int render(const RenderArgs& args) {
   if (!replay) checkOutputs(output);
 
   Prepared job = prepare(args);
+  if (args.distributed && replay) throw flagError("--distributed", "not with --pixel/--sample");
+  checkDistributed(job, args);
+  if (args.farm && !args.distributed)
+    std::cerr << "note: rank 0 renders alone; --distributed splits a render over the MPI ranks\n";
   if (!replay)
     for (const std::string& path : job.integrator->extraOutputPaths(stemPath(output))) {
       std::error_code ec;
@@ -328,7 +370,7 @@ int render(const RenderArgs& args) {
     written.push_back(stem + ".png");
     writeTextFile(stem + ".config.yaml", rendered.resolvedYaml);
     written.push_back(stem + ".config.yaml");
-    extra = job.integrator->writeExtraOutputs(stem);
+    if (!args.distributed) extra = job.integrator->writeExtraOutputs(stem);
   } catch (...) {
     std::error_code ec;
     for (const auto& w : written) std::filesystem::remove(w, ec);
@@ -361,6 +403,20 @@ RenderedImage renderToMemory(const RenderArgs& args) {
 
 int runRender(const RenderArgs& args) {
   return withErrorExitCodes([&] { return render(args); });
+}
+
+int serveRender(const RenderArgs& args) {
+  return withErrorExitCodes([&] {
+    // Prepared at the first task, which comes only after rank 0's checks passed.
+    std::optional<Prepared> job;
+    auto threads = limitThreads(args.threads);
+    return args.farm->serve([&](const std::string& task) {
+      if (!job) job.emplace(prepare(args));
+      uint64_t k = ByteReader(task).u64();
+      auto integrator = freshIntegrator(*job, args);
+      return chunkResult(k, renderChunk(*job->sf.scene, *integrator, job->sf.sampler, args.seed, k, args.chunkSpp));
+    });
+  });
 }
 
 }  // namespace lb

@@ -32,6 +32,8 @@ struct BdptSettings {
 
 class Bdpt final : public Integrator {
  public:
+  // Unbiased with independent passes: chunks of passes split a render exactly.
+  std::string splitRefusal() const override { return ""; }
   explicit Bdpt(BdptSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<ExrLayer> extraLayers() const override;

@@ -16,6 +16,8 @@ struct DirectLightingSettings {
 
 class DirectLighting final : public PixelIntegrator {
  public:
+  // Unbiased with independent passes: chunks of passes split a render exactly.
+  std::string splitRefusal() const override { return ""; }
   explicit DirectLighting(DirectLightingSettings s) : settings_(s) {}
 
  protected:

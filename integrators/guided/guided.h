@@ -58,6 +58,9 @@ struct GuidedSettings {
 
 class GuidedPathTracer final : public PixelIntegrator {
  public:
+  std::string splitRefusal() const override {
+    return "it learns from earlier passes; each chunk would learn from its own passes only";
+  }
   explicit GuidedPathTracer(GuidedSettings s);
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;

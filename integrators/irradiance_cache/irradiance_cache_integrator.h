@@ -66,6 +66,9 @@ struct IrradianceCacheStats {
 
 class IrradianceCacheIntegrator final : public Integrator {
  public:
+  std::string splitRefusal() const override {
+    return "its cache is built from the render's own earlier passes; each chunk would start an empty cache";
+  }
   explicit IrradianceCacheIntegrator(IrradianceCacheSettings s);
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;

@@ -24,6 +24,8 @@ struct LightTracerSettings {
 
 class LightTracer final : public Integrator {
  public:
+  // Unbiased with independent passes: chunks of passes split a render exactly.
+  std::string splitRefusal() const override { return ""; }
   explicit LightTracer(LightTracerSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
 

@@ -79,6 +79,9 @@ struct MltSettings {
 
 class Mlt final : public Integrator {
  public:
+  std::string splitRefusal() const override {
+    return "its passes are Markov chains' mutations; each chunk would restart the chains and re-estimate b";
+  }
   explicit Mlt(MltSettings s);
   ~Mlt() override;
   void preprocess(const Scene& scene, const Sampler& prototype) override;

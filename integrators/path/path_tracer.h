@@ -14,6 +14,8 @@ namespace lb {
 
 class PathTracer final : public PixelIntegrator {
  public:
+  // Unbiased with independent passes: chunks of passes split a render exactly.
+  std::string splitRefusal() const override { return ""; }
   explicit PathTracer(PathTracerSettings s);
   ~PathTracer() override;
   void preprocess(const Scene& scene, const Sampler& prototype) override;

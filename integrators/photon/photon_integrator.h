@@ -40,6 +40,9 @@ struct PhotonSettings : PhotonMapSettings {
 
 class PhotonMapper final : public PixelIntegrator {
  public:
+  std::string splitRefusal() const override {
+    return "its photon maps are built once per render; each chunk would trace and pay for its own maps";
+  }
   explicit PhotonMapper(PhotonSettings s) : settings_(s) {}
   void preprocess(const Scene& scene, const Sampler& prototype) override;
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;

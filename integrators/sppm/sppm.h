@@ -61,6 +61,10 @@ struct SppmPixel {
 
 class Sppm final : public Integrator {
  public:
+  std::string splitRefusal() const override {
+    return "each pass shrinks its radii from the photons of the passes before; the mean of chunks keeps the bias "
+           "of one chunk's passes";
+  }
   explicit Sppm(SppmSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   const std::vector<SppmPixel>& pixels() const { return pixels_; }

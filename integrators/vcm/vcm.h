@@ -77,6 +77,13 @@ struct VcmTimings {
 class Vcm final : public Integrator {
  public:
   explicit Vcm(VcmSettings s) : settings_(s) {}
+  // mode bpt merges nothing and is unbiased; merging shrinks its radius with
+  // the pass index, which a chunk would restart (the bias of its own passes).
+  std::string splitRefusal() const override {
+    return settings_.merging() ? "its merging radius shrinks with the pass index; a chunk restarts it, so the mean "
+                                 "of chunks keeps the bias of one chunk's passes (mode bpt splits exactly)"
+                               : "";
+  }
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   // The merging radius of iteration `pass` (0-based), r_1 · (pass + 1)^((α−1)/2).
   float radius(const Scene& scene, uint64_t pass) const;

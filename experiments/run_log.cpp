@@ -1,0 +1,93 @@
+#include "experiments/run_log.h"
+#include <filesystem>
+#include <sstream>
+#include "core/image.h"
+
+namespace lb {
+
+const char* const LogColumns[] = {"scene",        "label",     "integrator",  "repeat",    "seed",          "time_s",
+                                  "preprocess_s", "spp",       "rmse",        "relmse",    "mape",          "variance",
+                                  "nonfinite",    "rmse_crop", "relmse_crop", "mape_crop", "over_budget_s", "host",
+                                  "cpu",          "threads",   "final",       nullptr};
+
+size_t logColumnCount() {
+  size_t n = 0;
+  while (LogColumns[n]) ++n;
+  return n;
+}
+
+std::string runKey(const std::string& scene, const std::string& label, const std::string& repeat) {
+  return scene + "\x1f" + label + "\x1f" + repeat;
+}
+
+std::string logNumber(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+bool parseCsvLine(const std::string& line, std::vector<std::string>& out) {
+  out.clear();
+  std::string field;
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        field += '"', ++i;
+      else if (c == '"')
+        quoted = false;
+      else
+        field += c;
+    } else if (c == '"')
+      quoted = true;
+    else if (c == ',')
+      out.push_back(field), field.clear();
+    else
+      field += c;
+  }
+  out.push_back(field);
+  return !quoted;
+}
+
+LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) {
+  std::vector<std::string> kept;
+  if (resume && std::filesystem::exists(path)) {
+    std::ifstream in(path);
+    std::string line;
+    std::vector<std::vector<std::string>> rows;
+    std::getline(in, line);  // header
+    std::vector<std::string> f;
+    while (std::getline(in, line))
+      if (parseCsvLine(line, f) && f.size() == logColumnCount()) rows.push_back(f), kept.push_back(line);
+    for (const auto& r : rows)
+      if (r.back() == "1") completed->insert(runKey(r[0], r[1], r[3]));
+    std::vector<std::string> filtered;
+    for (size_t i = 0; i < rows.size(); ++i)
+      if (completed->count(runKey(rows[i][0], rows[i][1], rows[i][3]))) filtered.push_back(kept[i]);
+    kept = filtered;
+  }
+  std::string header;
+  for (size_t i = 0; LogColumns[i]; ++i) header += (i ? "," : "") + std::string(LogColumns[i]);
+  std::string content = header + "\n";
+  for (const auto& l : kept) content += l + "\n";
+  writeTextFile(path, content);
+  out_.open(path, std::ios::app);
+}
+
+void LogWriter::write(const std::vector<std::string>& fields) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (size_t i = 0; i < fields.size(); ++i) out_ << (i ? "," : "") << csvField(fields[i]);
+  out_ << "\n";
+  out_.flush();
+}
+
+}  // namespace lb
