@@ -261,6 +261,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
     // as a single process does. A worker is sent a scene's reference with
     // its first run of that scene.
     std::set<std::pair<int, size_t>> sentReference;
+    double handlingSeconds = 0;
     size_t next = 0;
     std::map<int, RunTask> running;
     farm->distribute(
@@ -276,6 +277,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
           return w.take();
         },
         [&](int worker, std::string&& bytes) {
+          auto handleStart = Clock::now();
           RunTask t = running.at(worker);
           std::vector<std::vector<std::string>> rows;
           RunOutcome outcome;
@@ -284,12 +286,18 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
           for (const auto& r : rows) log.write(r);
           ++done;
           const std::vector<std::string>& last = rows.back();
-          std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  done on %s (rank %d, %s threads): t=%ss spp=%s RMSE=%s  %s\n",
+          std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  done on %s (rank %d, threads %s): t=%ss spp=%s RMSE=%s  %s\n",
                        done.load(), tasks.size(), e.scenes[t.scene].name.c_str(),
                        ("'" + e.configurations[t.config].label + "'").c_str(), t.repeat + 1, last[17].c_str(), worker,
                        last[19].c_str(), last[5].c_str(), last[7].c_str(), last[8].c_str(),
                        elapsedText(0, true).c_str());
+          handlingSeconds += std::chrono::duration<double>(Clock::now() - handleStart).count();
         });
+    // Rank 0's own work per run bounds how many workers it can keep up with
+    // (docs/distributed.md, scaling).
+    if (done > 0)
+      std::fprintf(stderr, "rank 0: %.3f s for %zu runs' results (%.1f ms each: decoding, writing images and rows)\n",
+                   handlingSeconds, done.load(), 1000 * handlingSeconds / double(done));
   } else {
     RunEnvironment env = makeRunEnvironment(e, checked.scenes, thisMachine(threads));
     std::atomic<size_t> next{0};
@@ -377,6 +385,13 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
   std::map<size_t, Image> references;
   const int threads = threadsPerRun(o, farm.cluster().workersOnThisNode());
   const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
+  // mpirun binds each rank to one core by default when there are at most 2
+  // ranks: the rank then renders with the cores it may use, and says so.
+  int share = int(std::thread::hardware_concurrency()) / std::max(1, farm.cluster().workersOnThisNode());
+  if (o.threads == 0 && threads < share)
+    std::fprintf(stderr, "%snote: may use %d of this node's %u cores (mpirun's binding), so its runs get %d thread(s); "
+                 "mpirun --bind-to none gives each of the node's %d worker rank(s) %d\n", me.c_str(), threads,
+                 std::thread::hardware_concurrency(), threads, farm.cluster().workersOnThisNode(), share);
   enableFlushToZeroOnAllThreads();
   tbb::task_arena arena(threads);
   return farm.serve([&](const std::string& bytes) {

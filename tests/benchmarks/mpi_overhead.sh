@@ -6,7 +6,10 @@
 #      worker with 1 thread): the difference divided by the runs is what
 #      handing out a run and sending back its rows and images costs;
 #   3. the time from the last run's end to the finished report (the runner's
-#      "finish:" line), both ways.
+#      "finish:" line), both ways;
+#   4. rank 0's own work per run (the runner's "rank 0:" line: decoding a
+#      run's result, writing its images and rows) at 128x96 and 1280x720,
+#      which bounds how many workers one rank 0 keeps busy.
 # Run it alone (nothing else on the machine): bash tests/benchmarks/mpi_overhead.sh [build]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -38,11 +41,29 @@ for mode in single mpi; do
     "${MPIRUN[@]}" -np 2 "$BIN" run "$WORK/many.yaml" --results "$WORK/r" --threads 1 2> "$WORK/$mode.err"
   fi
   t1=$(now)
-  runs=$(grep -c ',1$' "$WORK"/r/many/*/log.csv)
-  render=$(/usr/bin/python3 -c "
+  read -r runs render < <(/usr/bin/python3 -c "
 import csv,sys
-rows=[r for r in csv.DictReader(open(sys.argv[1])) if r['final']=='1' and '+' not in r['label']]
-print(sum(float(r['time_s']) for r in rows))" "$WORK"/r/many/*/log.csv)
-  printf "%-6s: %d runs, wall %.2f s, of which rendering %.2f s; %s\n" $mode "$runs" "$(elapsed $t0 $t1)" "$render" \
-    "$(grep '^finish:' "$WORK/$mode.err")"
+rows=[r for r in csv.DictReader(open(sys.argv[1])) if r['final']=='1' and ' + ' not in r['label']]
+print(len(rows), sum(float(r['time_s']) for r in rows))" "$WORK"/r/many/*/log.csv)
+  printf "%-6s: %d runs, wall %.2f s, of which rendering %.2f s; %s; %s\n" $mode "$runs" "$(elapsed $t0 $t1)" "$render" \
+    "$(grep '^finish:' "$WORK/$mode.err")" "$(grep '^rank 0:' "$WORK/$mode.err" || true)"
+done
+
+for size in 128x96 1280x720; do
+  w=${size%x*}; h=${size#*x}
+  cat > "$WORK/size.yaml" <<YAML
+scenes:
+  - scene: $PWD/scenes/cornell-box.yaml
+    resolution: [$w, $h]
+    reference: {integrator: path, spp: 1, chunk_spp: 1}
+    crop: [8, 8, 72, 56]
+configurations:
+  - {label: path, integrator: path}
+budget: {spp: 1}
+snapshots: {count: 1}
+repeats: 6
+YAML
+  rm -rf "$WORK/s"
+  "${MPIRUN[@]}" -np 2 "$BIN" run "$WORK/size.yaml" --results "$WORK/s" --threads 1 --no-report 2> "$WORK/size.err"
+  echo "$size: $(grep '^rank 0:' "$WORK/size.err")"
 done

@@ -370,3 +370,38 @@ def test_slug_is_the_programs():
     import lightbench
     for label in ("PT: NEE + MIS power", "SPPM relative_radius=0.01, alpha=0.5", "Üben 2×", "a/b\\c"):
         assert runlog.slug(label) == lightbench._core.slug(label), label
+
+
+def test_runs_timed_on_different_kinds_of_machine_are_refused_unless_asked(tmp_path):
+    """An MPI sweep over a mixed cluster (issue 19): the log's cpu and threads
+    columns differ between runs of one scene; equal-time comparisons would be
+    wrong, so the report refuses (exit 3) until --mixed-machines is given.
+    Only the host differing (identical nodes) is fine."""
+    run_dir = str(tmp_path / "mixed")
+    write_run(run_dir, with_meta=False)
+    log = os.path.join(run_dir, "log.csv")
+    with open(log, newline="") as f:
+        rows = list(csv.DictReader(f))
+
+    def rewrite(kind):
+        fields = list(rows[0].keys())[:-1] + ["host", "cpu", "threads", "final"]
+        with open(log, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=fields)
+            w.writeheader()
+            for r in rows:
+                w.writerow({**r, **kind(r)})
+
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    report = lambda *extra: subprocess.run(["/usr/bin/python3", REPORT, run_dir, *extra], capture_output=True,
+                                           text=True, timeout=60, env=env)
+    rewrite(lambda r: {"host": f"node{r['repeat']}", "cpu": "Xeon, 2.2GHz", "threads": "8"})
+    assert report().returncode == 0
+    rewrite(lambda r: {"host": "n", "cpu": "Xeon, 2.2GHz" if r["label"] == CONFIGS[0][0] else "EPYC", "threads": "8"})
+    os.remove(os.path.join(run_dir, "rmse_vs_time.png"))
+    refused = report()
+    assert refused.returncode == 3
+    assert "2 kinds of machine" in refused.stderr and "--mixed-machines" in refused.stderr
+    assert not os.path.exists(os.path.join(run_dir, "rmse_vs_time.png"))
+    assert report("--mixed-machines").returncode == 0
+    rewrite(lambda r: {"host": "n", "cpu": "EPYC", "threads": "8" if r["repeat"] == "0" else "4"})
+    assert report().returncode == 3
