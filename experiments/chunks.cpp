@@ -75,7 +75,10 @@ void renderChunksOnFarm(Farm& farm, uint64_t first, uint64_t end, const std::fun
   std::map<uint64_t, RenderedChunk> early;  // arrived before an earlier chunk
   farm.distribute(
       [&](int) -> std::optional<std::string> {
-        if (done || nextTask >= end) return std::nullopt;
+        // Look ahead at most two chunks per worker past the first not yet
+        // taken: bounded memory for early arrivals, and bounded waste once
+        // `take` says stop.
+        if (done || nextTask >= end || nextTask >= nextTaken + 2 * uint64_t(farm.workers())) return std::nullopt;
         return task(nextTask++);
       },
       [&](int, std::string&& bytes) {
@@ -98,7 +101,7 @@ void renderChunksOnFarm(Farm& farm, uint64_t first, uint64_t end, const std::fun
 
 ChunkedRender renderChunked(const Scene& scene, const SamplerSettings& sampler,
                             const std::function<std::unique_ptr<Integrator>()>& fresh, uint64_t seed, uint64_t spp,
-                            uint64_t chunkSpp, Farm* farm, bool progress) {
+                            uint64_t chunkSpp, Farm* farm, const std::string& identity, bool progress) {
   auto start = std::chrono::steady_clock::now();
   ChunkAccumulator acc(scene.camera.width(), scene.camera.height());
   ChunkedRender out;
@@ -113,7 +116,7 @@ ChunkedRender renderChunked(const Scene& scene, const SamplerSettings& sampler,
   };
   if (farm && farm->workers() > 0)
     renderChunksOnFarm(
-        *farm, 0, chunks, [](uint64_t k) { return ByteWriter().u64(k).take(); }, take);
+        *farm, 0, chunks, [&](uint64_t k) { return ByteWriter().str(identity).u64(k).take(); }, take);
   else
     renderChunksHere(
         0, chunks,

@@ -60,16 +60,18 @@ void renderChunksHere(uint64_t first, uint64_t end, const std::function<Rendered
                       const ChunkTaker& take);
 // By the farm's workers: `task(k)` is the task that makes a worker render
 // chunk k and answer with chunkResult(k, …). Chunks that arrive early wait for
-// their turn. With an open end (a time or noise budget) each idle worker
-// starts the next chunk before `take` has decided: those still out when it
-// says stop are rendered in vain and dropped, at most one per worker.
+// their turn, at most two per worker ahead of the first not yet taken. With
+// an open end (a time or noise budget) idle workers start later chunks before
+// `take` has decided: those out or waiting when it says stop are rendered in
+// vain and dropped, fewer than two per worker.
 void renderChunksOnFarm(Farm& farm, uint64_t first, uint64_t end, const std::function<std::string(uint64_t)>& task,
                         const ChunkTaker& take);
 
 // A whole render as chunks (`lightbench render --distributed`): spp passes
 // in chunks of chunkSpp (a divisor), each by a fresh integrator from `fresh`;
-// by the farm's workers when `farm` has any (each renders `chunkTask(k)`'s
-// chunk with renderChunk and answers with chunkResult), else here.
+// by the farm's workers when `farm` has any (a task is `identity` and k: the
+// worker checks the identity, renders chunk k with renderChunk and answers
+// with chunkResult), else here.
 struct ChunkedRender {
   Image mean, varianceOfMean;
   uint64_t chunks = 0, passes = 0, nonFinite = 0, rays = 0;
@@ -78,7 +80,7 @@ struct ChunkedRender {
 };
 ChunkedRender renderChunked(const Scene& scene, const SamplerSettings& sampler,
                             const std::function<std::unique_ptr<Integrator>()>& fresh, uint64_t seed, uint64_t spp,
-                            uint64_t chunkSpp, Farm* farm, bool progress);
+                            uint64_t chunkSpp, Farm* farm, const std::string& identity, bool progress);
 
 // A worker's answer to a chunk task.
 std::string chunkResult(uint64_t k, const RenderedChunk& chunk);

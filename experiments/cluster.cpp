@@ -1,5 +1,8 @@
 #include "experiments/cluster.h"
+#include <tbb/info.h>
+#include <algorithm>
 #include <cstring>
+#include <thread>
 #include "core/error.h"
 
 namespace lb {
@@ -12,19 +15,21 @@ enum FarmTag { Request = 1, Task = 2, Result = 3, Failure = 4, Stop = 5 };
 
 void Farm::distribute(const std::function<std::optional<std::string>(int)>& next,
                       const std::function<void(int, std::string&&)>& onResult) {
-  bool exhausted = false;
   for (;;) {
-    while (!exhausted && !idle_.empty()) {
+    bool drained = false;  // `next` had nothing (for now) for an idle worker
+    while (!idle_.empty()) {
       std::optional<std::string> task = next(idle_.back());
       if (!task) {
-        exhausted = true;
+        drained = true;
         break;
       }
       cluster_.send(idle_.back(), Task, *task);
       idle_.pop_back();
       ++busy_;
     }
-    if (busy_ == 0 && (exhausted || workers() == 0)) return;
+    // Nothing out and nothing to hand out: done. (With no worker idle yet,
+    // the first Requests are still to come.)
+    if (busy_ == 0 && (drained || workers() == 0)) return;
     Message m = cluster_.receive(Cluster::AnySource);
     if (m.tag == Request) {
       idle_.push_back(m.source);
@@ -67,8 +72,16 @@ int Farm::serve(const std::function<std::string(const std::string&)>& work) {
       cluster_.send(0, Failure, ByteWriter().u64(2).str(e.what()).take());
     } catch (const std::exception& e) {
       cluster_.send(0, Failure, ByteWriter().u64(1).str(e.what()).take());
+    } catch (...) {
+      cluster_.send(0, Failure, ByteWriter().u64(1).str("an unknown exception").take());
     }
   }
+}
+
+int workerThreads(int requested, const Cluster& cluster) {
+  if (requested > 0) return requested;
+  int share = int(std::thread::hardware_concurrency()) / std::max(1, cluster.workersOnThisNode());
+  return std::max(1, std::min(tbb::info::default_concurrency(), share));
 }
 
 ByteWriter& ByteWriter::image(const Image& img) {

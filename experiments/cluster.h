@@ -45,6 +45,11 @@ class Cluster {
   [[noreturn]] virtual void abort(int code) = 0;
 };
 
+// Threads for a worker rank's render: `requested` if positive, else the
+// cores it may use (its affinity: mpirun's binding), but no more than its
+// share of the node's cores among the node's worker ranks.
+int workerThreads(int requested, const Cluster& cluster);
+
 // A worker's task that threw: its exit code (2 for bad input) and message,
 // rethrown on rank 0 so the command fails as a single process would.
 struct RemoteFailure : std::runtime_error {

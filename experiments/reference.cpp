@@ -35,6 +35,9 @@ std::string readBytes(const std::string& path) {
 }
 }  // namespace
 
+std::string renderSourceHash() { return LIGHTBENCH_RENDER_SOURCE_HASH; }
+std::string fileBytes(const std::string& path) { return readBytes(path); }
+
 std::string hashStrings(const std::vector<std::string>& parts) {
   Fnv1a f;
   for (const auto& p : parts) f.add(p);

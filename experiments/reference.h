@@ -21,6 +21,11 @@ namespace lb {
 std::string referenceKey(const ExperimentScene& scene);
 // "2048 spp", "600 s" or "noise floor 0.002".
 std::string referenceBudget(const ReferenceSpec& reference);
+// The hash of the rendering code (core/, integrators/) this build was made
+// from: part of every reference key, and of what MPI ranks check they share.
+std::string renderSourceHash();
+// A file's bytes ("" if it cannot be read).
+std::string fileBytes(const std::string& path);
 // FNV-1a of several strings (each delimited), as 16 hex digits.
 std::string hashStrings(const std::vector<std::string>& parts);
 

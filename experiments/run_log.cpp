@@ -1,4 +1,5 @@
 #include "experiments/run_log.h"
+#include <algorithm>
 #include <filesystem>
 #include <sstream>
 #include "core/image.h"
@@ -64,10 +65,24 @@ LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>
     std::ifstream in(path);
     std::string line;
     std::vector<std::vector<std::string>> rows;
-    std::getline(in, line);  // header
-    std::vector<std::string> f;
-    while (std::getline(in, line))
-      if (parseCsvLine(line, f) && f.size() == logColumnCount()) rows.push_back(f), kept.push_back(line);
+    // A log written by an older version has fewer columns: its rows are
+    // carried over by column name, the new columns left empty.
+    std::vector<std::string> header, f;
+    std::getline(in, line);
+    parseCsvLine(line, header);
+    std::vector<int> from;  // for each current column, its index in the file (-1: absent)
+    for (size_t c = 0; LogColumns[c]; ++c) {
+      auto at = std::find(header.begin(), header.end(), LogColumns[c]);
+      from.push_back(at == header.end() ? -1 : int(at - header.begin()));
+    }
+    while (std::getline(in, line)) {
+      if (!parseCsvLine(line, f) || f.size() != header.size()) continue;  // a torn line
+      std::vector<std::string> row;
+      for (int i : from) row.push_back(i < 0 ? "" : f[size_t(i)]);
+      std::string text;
+      for (size_t i = 0; i < row.size(); ++i) text += (i ? "," : "") + csvField(row[i]);
+      rows.push_back(row), kept.push_back(text);
+    }
     for (const auto& r : rows)
       if (r.back() == "1") completed->insert(runKey(r[0], r[1], r[3]));
     std::vector<std::string> filtered;

@@ -109,6 +109,25 @@ int threadsPerRun(const RunnerOptions& o, int sharers) {
   return std::max(1, tbb::info::default_concurrency() / std::max(1, sharers));
 }
 
+// What every rank must share to work on one experiment: the experiment as
+// read, the run scenes' bytes, the references' keys (which hash their scenes,
+// meshes and the rendering code) and the build. A worker that reads another
+// copy (a stale file on a node, another build) refuses its tasks.
+std::string jobIdentity(const Experiment& e, const std::vector<std::string>& referenceIds) {
+  std::vector<std::string> parts = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
+                                    std::to_string(e.budget.spp), std::to_string(e.repeats), renderSourceHash(),
+                                    LIGHTBENCH_GIT};
+  for (const auto& s : e.scenes) parts.push_back(fileBytes(s.path));
+  parts.insert(parts.end(), referenceIds.begin(), referenceIds.end());
+  return hashStrings(parts);
+}
+
+std::vector<std::string> referenceIdsOf(const Experiment& e) {
+  std::vector<std::string> ids;
+  for (const auto& s : e.scenes) ids.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  return ids;
+}
+
 MachineColumns thisMachine(int threads) { return {hostName(), cpuModel(), threads}; }
 
 std::string encodeRunResult(const std::vector<std::vector<std::string>>& rows, const RunOutcome& out) {
@@ -147,8 +166,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::vector<std::string> identity = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
                                        std::to_string(e.budget.spp), std::to_string(e.repeats)};
   // Each reference's key hashes its scene and mesh files: computed once here.
-  std::vector<std::string> referenceIds;
-  for (const auto& s : e.scenes) referenceIds.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  std::vector<std::string> referenceIds = referenceIdsOf(e);
+  const std::string job = farm ? jobIdentity(e, referenceIds) : "";
   identity.insert(identity.end(), referenceIds.begin(), referenceIds.end());
   std::string experimentHash = hashStrings(identity);
   fs::path runDir = latestRun(e, o);
@@ -176,7 +195,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       std::cerr << "reference: " << s.reference.file << " (given)\n";
       obtained.image = std::move(checked.givenReferences[si]);
     } else if (farm) {
-      RemoteChunks remote{*farm, [si](uint64_t k) { return ByteWriter().u64(ReferenceChunkTask).u64(si).u64(k).take(); }};
+      RemoteChunks remote{*farm, [si, &job](uint64_t k) {
+                            return ByteWriter().str(job).u64(ReferenceChunkTask).u64(si).u64(k).take();
+                          }};
       obtained = obtainReference(s, o.resultsRoot, referenceIds[si], &remote);
     } else {
       obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
@@ -218,7 +239,8 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
 
   int jobs = farm ? 1 : std::max(1, std::min(o.jobs, tbb::info::default_concurrency()));
-  int threads = threadsPerRun(o, farm ? farm->cluster().workersOnThisNode() : jobs);
+  // Under MPI: what a worker on rank 0's node uses (each row has its own).
+  int threads = farm ? workerThreads(o.threads, farm->cluster()) : threadsPerRun(o, jobs);
   RunMeta meta = startMeta(e, runDir.string(), threads, jobs, experimentHash);
   meta.ranks = farm ? farm->cluster().size() : 1;
   for (size_t si = 0; si < e.scenes.size(); ++si) {
@@ -270,7 +292,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
           const RunTask& t = tasks[next++];
           running[worker] = t;
           ByteWriter w;
-          w.u64(RunTaskKind).u64(t.scene).u64(t.config).u64(uint64_t(t.repeat));
+          w.str(job).u64(RunTaskKind).u64(t.scene).u64(t.config).u64(uint64_t(t.repeat));
           bool send = sentReference.insert({worker, t.scene}).second;
           w.u64(send ? 1 : 0);
           if (send) w.image(references[t.scene]);
@@ -383,12 +405,13 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
   std::optional<RunEnvironment> env;
   std::map<size_t, SceneFile> referenceScenes;
   std::map<size_t, Image> references;
-  const int threads = threadsPerRun(o, farm.cluster().workersOnThisNode());
+  const int threads = workerThreads(o.threads, farm.cluster());
+  std::string identity;  // jobIdentity, as this rank reads the files
   const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
   // mpirun binds each rank to one core by default when there are at most 2
   // ranks: the rank then renders with the cores it may use, and says so.
   int share = int(std::thread::hardware_concurrency()) / std::max(1, farm.cluster().workersOnThisNode());
-  if (o.threads == 0 && threads < share)
+  if (threads < share)
     std::fprintf(stderr, "%snote: may use %d of this node's %u cores (mpirun's binding), so its runs get %d thread(s); "
                  "mpirun --bind-to none gives each of the node's %d worker rank(s) %d\n", me.c_str(), threads,
                  std::thread::hardware_concurrency(), threads, farm.cluster().workersOnThisNode(), share);
@@ -399,8 +422,13 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
       e = loadExperiment(experimentFile, eo);
       checked = validateExperiment(*e);
       env = makeRunEnvironment(*e, checked->scenes, thisMachine(threads));
+      identity = jobIdentity(*e, referenceIdsOf(*e));
     }
     ByteReader r(bytes);
+    if (r.str() != identity)
+      throw ConfigError(experimentFile, 0, "", "this rank (" + hostName() + ") reads another experiment, other scene "
+                        "files or runs another lightbench build than rank 0; every rank must see the same files "
+                        "(a shared file system) and run the same build");
     uint64_t kind = r.u64();
     size_t si = r.u64();
     const ExperimentScene& es = e->scenes.at(si);

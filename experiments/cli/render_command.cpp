@@ -15,6 +15,8 @@
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
 #include "experiments/experiment.h"
+#include "experiments/meta.h"
+#include "experiments/reference.h"
 #include "integrators/registry.h"
 #include "integrators/render_loop.h"
 
@@ -212,6 +214,17 @@ std::unique_ptr<Integrator> freshIntegrator(const Prepared& job, const RenderArg
   return makeIntegrator(job.choice.name, params, args.scene, job.choice.line);
 }
 
+// What every rank of a distributed render must share: the scene file's
+// bytes, the flags that change the image, the rendering code and the build.
+std::string renderIdentity(const RenderArgs& args) {
+  std::vector<std::string> parts = {fileBytes(args.scene), renderSourceHash(), LIGHTBENCH_GIT, args.integrator,
+                                    args.resolution, args.crop, args.sampler, std::to_string(args.worldScale),
+                                    std::to_string(args.seed), std::to_string(args.spp),
+                                    std::to_string(args.chunkSpp)};
+  parts.insert(parts.end(), args.overrides.begin(), args.overrides.end());
+  return hashStrings(parts);
+}
+
 // --distributed's limits, checked before anything renders.
 void checkDistributed(const Prepared& job, const RenderArgs& args) {
   if (!args.distributed) return;
@@ -244,7 +257,8 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
   Image chunkMean;
   if (args.distributed) {
     ChunkedRender c = renderChunked(*job.sf.scene, job.sf.sampler, [&] { return freshIntegrator(job, args); },
-                                    args.seed, options.budget.spp, args.chunkSpp, args.farm, options.progress);
+                                    args.seed, options.budget.spp, args.chunkSpp, args.farm, renderIdentity(args),
+                                    options.progress);
     chunkMean = std::move(c.mean);
     rep.passes = c.passes, rep.seconds = c.seconds, rep.nonFinite = c.nonFinite, rep.rays = c.rays;
   } else {
@@ -409,10 +423,15 @@ int serveRender(const RenderArgs& args) {
   return withErrorExitCodes([&] {
     // Prepared at the first task, which comes only after rank 0's checks passed.
     std::optional<Prepared> job;
-    auto threads = limitThreads(args.threads);
+    std::string identity;
+    auto threads = limitThreads(workerThreads(args.threads, args.farm->cluster()));
     return args.farm->serve([&](const std::string& task) {
-      if (!job) job.emplace(prepare(args));
-      uint64_t k = ByteReader(task).u64();
+      if (!job) job.emplace(prepare(args)), identity = renderIdentity(args);
+      ByteReader r(task);
+      if (r.str() != identity)
+        throw ConfigError(args.scene, 0, "", "this rank (" + hostName() + ") reads another scene or runs another "
+                          "lightbench build than rank 0; every rank must see the same files and run the same build");
+      uint64_t k = r.u64();
       auto integrator = freshIntegrator(*job, args);
       return chunkResult(k, renderChunk(*job->sf.scene, *integrator, job->sf.sampler, args.seed, k, args.chunkSpp));
     });

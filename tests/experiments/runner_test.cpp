@@ -344,6 +344,46 @@ TEST_F(Runner, KilledRunKeepsItsLogAndResumeCompletesIt) {
   EXPECT_NE(err.find("changed since"), std::string::npos) << err;
 }
 
+// A log written before the host, cpu and threads columns (issue 19) is
+// resumed by column name: its finished runs are kept, not silently dropped
+// for having fewer columns, and only the unfinished run is redone.
+TEST_F(Runner, ResumeKeepsTheRunsOfALogWithOlderColumns) {
+  std::string exp = writeExperiment("{spp: 4}", 2);
+  fs::path results = dir_ / "results";
+  std::string err;
+  ASSERT_EQ(runBinary(exp + " --no-report --results " + results.string(), &err), 0) << err;
+  fs::path log;
+  for (const auto& d : fs::directory_iterator(results / "exp")) log = d.path() / "log.csv";
+  CsvTable table = readCsv(log);
+  // The old format: without the three columns, and the last run unfinished.
+  std::vector<std::string> old;
+  int oldRows = 0;  // the three finished runs' rows
+  for (const auto& r : table.rows) oldRows += !(r.at("label") == "mis" && r.at("repeat") == "1");
+  for (const auto& c : table.header)
+    if (c != "host" && c != "cpu" && c != "threads") old.push_back(c);
+  std::ostringstream text;
+  for (size_t i = 0; i < old.size(); ++i) text << (i ? "," : "") << old[i];
+  text << "\n";
+  for (const auto& r : table.rows) {
+    if (r.at("label") == "mis" && r.at("repeat") == "1" && r.at("final") == "1") continue;
+    for (size_t i = 0; i < old.size(); ++i) text << (i ? "," : "") << r.at(old[i]);
+    text << "\n";
+  }
+  std::ofstream(log) << text.str();
+
+  ASSERT_EQ(runBinary(exp + " --resume --no-report --results " + results.string(), &err), 0) << err;
+  EXPECT_NE(err.find("resume: 3 of 4 runs already complete"), std::string::npos) << err;
+  CsvTable resumed = readCsv(log);
+  EXPECT_EQ(resumed.header, table.header);
+  int finals = 0, carried = 0;
+  for (const auto& r : resumed.rows) {
+    finals += r.at("final") == "1";
+    carried += r.at("host").empty();
+  }
+  EXPECT_EQ(finals, 4);
+  EXPECT_EQ(carried, oldRows);  // carried over, their new columns empty
+}
+
 TEST_F(Runner, ScenesCanBeNamedScaledAndJudgedAgainstAnotherScene) {
   std::string text = "scenes:\n"
                      "  - {scene: scene.yaml, resolution: [16, 16], reference: {spp: 16}}\n"

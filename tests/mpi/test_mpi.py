@@ -188,3 +188,24 @@ def test_bad_input_under_mpi_is_one_line_from_rank_0(tmp_path):
     lines = [l for l in r.stderr.splitlines() if l.startswith("error:")]
     assert len(lines) == 1 and "bad.yaml:" in lines[0], r.stderr
     assert not (tmp_path / "results" / "bad").exists()
+
+
+def test_a_worker_reading_other_files_refuses_its_tasks(tmp_path):
+    """Every rank reads the experiment and its scenes itself (a shared file
+    system); a rank that sees other bytes (a stale copy on a node) must not
+    feed rank 0's results. MPMD launch: rank 0 runs one file, the workers
+    another that differs in one seed."""
+    ours = tmp_path / "ours.yaml"
+    ours.write_text(TINY.read_text().replace("../../scenes/", str(SOURCE_DIR / "scenes") + "/"))
+    stale = tmp_path / "stale.yaml"
+    stale.write_text(ours.read_text().replace("seed: 5", "seed: 6"))
+    results = tmp_path / "results"
+    cmd = [MPIRUN, "--allow-run-as-root", "--oversubscribe", "-np", "1", BINARY, "run", str(ours), "--results",
+           str(results), "--no-report", ":", "-np", "2", BINARY, "run", str(stale), "--results", str(results),
+           "--no-report"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 2, r.stderr
+    lines = [l for l in r.stderr.splitlines() if l.startswith("error:")]
+    assert len(lines) == 1 and "reads another experiment" in lines[0], r.stderr
+    # The reference the workers would have rendered is not in the cache.
+    assert not list(results.glob("references/*.exr"))
