@@ -13,6 +13,12 @@ MpiCluster::MpiCluster(int* argc, char*** argv) {
   int provided = 0;
   MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  // Rendering threads never call MPI, but an MPI that cannot even promise
+  // that is one we must not run on.
+  if (provided < MPI_THREAD_FUNNELED) {
+    if (rank_ == 0) std::fprintf(stderr, "error: this MPI does not support threads (MPI_THREAD_FUNNELED)\n");
+    MPI_Abort(MPI_COMM_WORLD, 1);
+  }
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
   // The ranks sharing this node's memory (and cores): MPI-3's shared-memory
   // split. Rank 0 coordinates and does not count.
