@@ -109,16 +109,22 @@ int threadsPerRun(const RunnerOptions& o, int sharers) {
   return std::max(1, tbb::info::default_concurrency() / std::max(1, sharers));
 }
 
-// What every rank must share to work on one experiment: the experiment as
-// read, the run scenes' bytes, the references' keys (which hash their scenes,
-// meshes and the rendering code) and the build. A worker that reads another
-// copy (a stale file on a node, another build) refuses its tasks.
-std::string jobIdentity(const Experiment& e, const std::vector<std::string>& referenceIds) {
+// What a resumed run must share with the one it continues: the experiment as
+// read, its budget and repeats, and its references' keys.
+std::string experimentHashOf(const Experiment& e, const std::vector<std::string>& referenceIds) {
   std::vector<std::string> parts = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
-                                    std::to_string(e.budget.spp), std::to_string(e.repeats), renderSourceHash(),
-                                    LIGHTBENCH_GIT};
-  for (const auto& s : e.scenes) parts.push_back(fileBytes(s.path));
+                                    std::to_string(e.budget.spp), std::to_string(e.repeats)};
   parts.insert(parts.end(), referenceIds.begin(), referenceIds.end());
+  return hashStrings(parts);
+}
+
+// What every rank must share to work on one experiment: that, the run
+// scenes' bytes and the build (the references' keys already hash their
+// scenes, meshes and the rendering code). A worker that reads another copy
+// (a stale file on a node, another build) refuses its tasks.
+std::string jobIdentity(const Experiment& e, const std::string& experimentHash) {
+  std::vector<std::string> parts = {experimentHash, renderSourceHash(), LIGHTBENCH_GIT};
+  for (const auto& s : e.scenes) parts.push_back(fileBytes(s.path));
   return hashStrings(parts);
 }
 
@@ -162,14 +168,10 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   // renders, and leaves no run folder behind.
   CheckedExperiment checked = validateExperiment(e);
 
-  // What a resumed run must share with the one it continues.
-  std::vector<std::string> identity = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
-                                       std::to_string(e.budget.spp), std::to_string(e.repeats)};
   // Each reference's key hashes its scene and mesh files: computed once here.
   std::vector<std::string> referenceIds = referenceIdsOf(e);
-  const std::string job = farm ? jobIdentity(e, referenceIds) : "";
-  identity.insert(identity.end(), referenceIds.begin(), referenceIds.end());
-  std::string experimentHash = hashStrings(identity);
+  std::string experimentHash = experimentHashOf(e, referenceIds);
+  const std::string job = farm ? jobIdentity(e, experimentHash) : "";
   fs::path runDir = latestRun(e, o);
   std::optional<RunLock> lock;
   if (!runDir.empty()) {
@@ -422,7 +424,7 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
       e = loadExperiment(experimentFile, eo);
       checked = validateExperiment(*e);
       env = makeRunEnvironment(*e, checked->scenes, thisMachine(threads));
-      identity = jobIdentity(*e, referenceIdsOf(*e));
+      identity = jobIdentity(*e, experimentHashOf(*e, referenceIdsOf(*e)));
     }
     ByteReader r(bytes);
     if (r.str() != identity)
