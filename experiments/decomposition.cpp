@@ -1,4 +1,5 @@
 #include "experiments/decomposition.h"
+#include "experiments/verdict/statistics.h"
 #include <cmath>
 #include <stdexcept>
 
@@ -11,22 +12,14 @@ struct Tile {
   double count = 0;
 };
 
-// Mean over tiles weighted by their pixel counts, and its 95 % interval.
+// Mean over tiles weighted by their pixel counts, and its 95 % interval
+// (batch means, verdict/statistics.h; normal quantile).
 void weightedMean(const std::vector<Tile>& tiles, double Tile::*field, double* mean, double* low, double* high) {
-  double n = 0, sum = 0;
-  for (const auto& t : tiles) n += t.count, sum += t.*field;
-  *mean = sum / n;
-  // Batch means: each tile's mean x_i, weighted by its share w_i of the
-  // pixels (edge tiles are smaller). The ratio estimator's variance,
-  // k/(k−1) Σ w_i² (x_i − mean)², reduces to s²/k for equal tiles.
-  double var = 0, k = 0;
-  for (const auto& t : tiles) {
-    if (t.count == 0) continue;
-    double w = t.count / n, d = t.*field / t.count - *mean;
-    var += w * w * d * d;
-    k += 1;
-  }
-  double se = k > 1 ? std::sqrt(var * k / (k - 1)) : INFINITY;
+  std::vector<double> sums, weights;
+  for (const auto& t : tiles) sums.push_back(t.*field), weights.push_back(t.count);
+  BatchMeans b = batchMeans(sums, weights);
+  double se = std::sqrt(b.varianceOfMean);
+  *mean = b.mean;
   *low = *mean - 1.96 * se;
   *high = *mean + 1.96 * se;
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include "core/scene_loader.h"
+#include "experiments/verdict/verdict.h"
 #include "integrators/registry.h"
 
 namespace lb {
@@ -182,6 +183,62 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
   return r;
 }
 
+// `repeats: N`, or `repeats: {until_decided: true, min: 2, max: 16,
+// extend_reference: false}` (verdict/sequential.h).
+void readRepeats(Params& p, const ExperimentOptions& options, Experiment& e) {
+  if (p.has("repeats") && p.node()["repeats"].IsMap()) {
+    std::optional<Params> plan = p.getChild("repeats");
+    RepeatPlan& r = e.repeatPlan;
+    r.untilDecided = plan->getBool("until_decided", false);
+    if (!r.untilDecided)
+      plan->fail("until_decided", "a mapping asks for repeats until decided (until_decided: true); a fixed number "
+                                  "is written repeats: N");
+    r.min = plan->getInt("min", 4);
+    r.repeats = plan->getInt("max", 16);
+    r.extendReference = plan->getBool("extend_reference", false);
+    plan->checkUnused();
+    if (r.min < 2) plan->fail("min", "must be at least 2 (a pair's test needs two repeats of each)");
+    if (r.repeats < r.min || r.repeats > 1000) plan->fail("max", "must be in [min, 1000]");
+    e.repeats = r.repeats;
+  } else {
+    e.repeats = p.getInt("repeats", 1);
+    if (e.repeats < 1 || e.repeats > 1000) p.fail("repeats", "must be in [1, 1000]");
+    e.repeatPlan.repeats = e.repeats;
+  }
+  if (options.quick) {
+    if (e.repeatPlan.untilDecided)
+      warn(p.file() + ":" + std::to_string(p.line("repeats")) + ": --quick runs one repeat, not until decided");
+    e.repeats = 1, e.repeatPlan = RepeatPlan{};
+  }
+}
+
+// rank_by, baseline and confidence: what the verdict ranks by and against.
+void readVerdictKeys(Params& p, Experiment& e) {
+  std::string metrics;
+  for (const auto& m : verdictMetrics()) metrics += (metrics.empty() ? "" : ", ") + m.name;
+  e.rankBy = p.getString("rank_by", "relmse");
+  auto metric = findVerdictMetric(e.rankBy);
+  if (!metric)
+    p.fail("rank_by", "unknown metric '" + e.rankBy + "' (a squared error: " + metrics +
+                          "; MAPE has no correction for the reference's noise)");
+  if (metric->crop)
+    for (const auto& s : e.scenes)
+      if (s.crop.empty()) p.fail("rank_by", "'" + e.rankBy + "' needs a crop in every scene; scene '" + s.name + "' has none");
+  // Read as a float: rounded back to the decimals written (0.95, not 0.949999988).
+  e.confidence = std::round(double(p.getFloat("confidence", 0.95f)) * 1e6) / 1e6;
+  if (!(e.confidence >= 0.5 && e.confidence <= 0.9999)) p.fail("confidence", "must be in [0.5, 0.9999]");
+  if (p.has("baseline")) {
+    e.baseline = p.getString("baseline", "");
+    std::string labels;
+    bool found = false;
+    for (const auto& c : e.configurations) {
+      labels += (labels.empty() ? "'" : ", '") + c.label + "'";
+      found = found || c.label == e.baseline || (!c.denoise.empty() && c.denoisedLabel() == e.baseline);
+    }
+    if (!found) p.fail("baseline", "no configuration is labelled '" + e.baseline + "' (labels: " + labels + ")");
+  }
+}
+
 }  // namespace
 
 std::string slug(const std::string& label) {
@@ -321,25 +378,28 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   }
   if (p.has("metrics")) {
     YAML::Node m = p.node()["metrics"];
+    const std::string names = "rmse, relmse, relmse_trimmed, mape, variance";
     if (!m.IsSequence()) p.fail("metrics", "expected a list, e.g. [rmse, relmse]");
     e.metrics.clear();
     for (const auto& item : m) {
-      if (!item.IsScalar()) p.fail("metrics", "each metric is a name (rmse, relmse, mape, variance), not a list or mapping");
+      if (!item.IsScalar()) p.fail("metrics", "each metric is a name (" + names + "), not a list or mapping");
       std::string name = item.Scalar();
-      if (name != "rmse" && name != "relmse" && name != "mape" && name != "variance")
-        p.fail("metrics", "unknown metric '" + name + "' (expected rmse, relmse, mape, variance)");
+      if (name != "rmse" && name != "relmse" && name != "relmse_trimmed" && name != "mape" && name != "variance")
+        p.fail("metrics", "unknown metric '" + name + "' (expected " + names + ")");
       e.metrics.push_back(name);
     }
   }
-  e.repeats = p.getInt("repeats", 1);
-  if (e.repeats < 1 || e.repeats > 1000) p.fail("repeats", "must be in [1, 1000]");
-  if (options.quick) e.repeats = 1;
+  readRepeats(p, options, e);
   e.seed = uint64_t(p.getInt("seed", 1));
   e.metricSettings.relEpsilon = p.getFloat("relmse_epsilon", 1e-2f);
   if (!(e.metricSettings.relEpsilon > 0)) p.fail("relmse_epsilon", "must be positive");
-  e.metricSettings.outlierPercentile = p.getFloat("outlier_percentile", 0);
-  if (e.metricSettings.outlierPercentile < 0 || e.metricSettings.outlierPercentile > 100)
-    p.fail("outlier_percentile", "must be in [0, 100]");
+  if (p.has("outlier_percentile"))
+    p.fail("outlier_percentile", "was replaced by the relmse_trimmed metric (trim_fraction: the share of pixels "
+                                 "it rejects, default 0.001)");
+  e.metricSettings.trimFraction = p.getFloat("trim_fraction", 1e-3f);
+  if (!(e.metricSettings.trimFraction >= 0 && e.metricSettings.trimFraction < 0.5f))
+    p.fail("trim_fraction", "must be in [0, 0.5): the share of pixels relmse_trimmed rejects");
+  readVerdictKeys(p, e);
   p.checkUnused();
   return e;
 }

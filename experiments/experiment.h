@@ -8,6 +8,7 @@
 #include <vector>
 #include "core/params.h"
 #include "experiments/metrics.h"
+#include "experiments/verdict/sequential.h"
 #include "integrators/render_loop.h"
 
 namespace lb {
@@ -78,10 +79,19 @@ struct Experiment {
   RenderBudget budget;
   int snapshots = 8;
   SnapshotSpacing spacing = SnapshotSpacing::Log;
-  std::vector<std::string> metrics = {"rmse", "relmse", "mape", "variance"};
+  std::vector<std::string> metrics = {"rmse", "relmse", "relmse_trimmed", "mape", "variance"};
+  // The most repeats a configuration gets: `repeats: N`, or the schedule's
+  // max with `repeats: {until_decided: true, ...}` (verdict/sequential.h).
   int repeats = 1;
+  RepeatPlan repeatPlan;
   uint64_t seed = 1;
   MetricSettings metricSettings;
+  // The verdict (verdict/verdict.h): the metric it ranks by, the
+  // configuration speed-ups are relative to (a label; empty: the first),
+  // and the confidence of its intervals and family-wise tests.
+  std::string rankBy = "relmse";
+  std::string baseline;
+  double confidence = 0.95;
   YAML::Node source;           // the file as read, for meta.json
 };
 

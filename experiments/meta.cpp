@@ -58,7 +58,19 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
   for (int r = 0; r < e.repeats; ++r) j["seeds"].push_back(e.seed + uint64_t(r) * 7919);
   j["metrics"] = e.metrics;
   j["relmse_epsilon"] = e.metricSettings.relEpsilon;
-  j["outlier_percentile"] = e.metricSettings.outlierPercentile;
+  j["repeat_plan"] = {{"until_decided", e.repeatPlan.untilDecided},
+                      {"min", e.repeatPlan.untilDecided ? e.repeatPlan.min : e.repeats},
+                      {"max", e.repeats},
+                      {"extend_reference", e.repeatPlan.extendReference},
+                      {"looks", e.repeatPlan.looks()}};
+  // What experiments/verdict/run_folder.cpp reads back (and `lightbench verdict` may override).
+  std::string baseline = e.baseline.empty() ? e.configurations.front().label : e.baseline;
+  j["verdict"] = {{"rank_by", e.rankBy},
+                  {"confidence", e.confidence},
+                  {"baseline", baseline},
+                  {"looks", int(e.repeatPlan.looks().size())},
+                  {"trim_fraction", e.metricSettings.trimFraction},
+                  {"tile_size", 8}};
   j["scenes"] = json::array();
   for (const auto& s : e.scenes) {
     auto key = m.referenceKeys.find(s.name);
@@ -75,6 +87,9 @@ std::string write(const RunMeta& m, const Experiment& e, bool finished) {
     auto floor = m.referenceRmseFloor.find(s.name);
     scene["reference_rmse_floor"] =
         floor != m.referenceRmseFloor.end() && std::isfinite(floor->second) ? json(floor->second) : json(nullptr);
+    auto chunks = m.referenceChunks.find(s.name);
+    scene["reference_chunks"] = chunks != m.referenceChunks.end() && chunks->second > 0 ? json(chunks->second) : json(nullptr);
+    scene["reference_variance_exr"] = s.name + "__reference_variance.exr";  // absent when unknown
     scene["crop"] = s.crop.empty() ? json(nullptr) : json({s.crop.x0, s.crop.y0, s.crop.x1, s.crop.y1});
     j["scenes"].push_back(scene);
   }
@@ -131,8 +146,8 @@ RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPer
   return m;
 }
 
-void finishMeta(const RunMeta& m, const Experiment& e, const std::string& runDir) {
-  writeTextFile((std::filesystem::path(runDir) / "meta.json").string(), write(m, e, true));
+void writeMeta(const RunMeta& m, const Experiment& e, const std::string& runDir, bool finished) {
+  writeTextFile((std::filesystem::path(runDir) / "meta.json").string(), write(m, e, finished));
 }
 
 std::string readExperimentHash(const std::string& runDir) {

@@ -13,12 +13,14 @@ struct RunMeta {
   std::map<std::string, std::string> referenceKeys;
   std::map<std::string, std::string> referenceUsed;  // the reference as used: chunks, spp, seconds
   std::map<std::string, double> referenceRmseFloor;  // sqrt of the reference's mean variance
+  std::map<std::string, uint64_t> referenceChunks;   // chunks of a rendered reference (0: a given EXR)
   std::string experimentHash;  // what --resume checks: the same experiment, budget and references
 };
 
 RunMeta startMeta(const Experiment& e, const std::string& runDir, int threadsPerRun, int jobs,
                   const std::string& experimentHash);
-void finishMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir);
+// meta.json again: after the references are known (or extended), and once finished.
+void writeMeta(const RunMeta& meta, const Experiment& e, const std::string& runDir, bool finished);
 // This machine, as meta.json and the log's host and cpu columns name it.
 std::string hostName();
 std::string cpuModel();

@@ -1,45 +1,83 @@
 #include "experiments/metrics.h"
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace lb {
 
 namespace {
-// Mean of per-pixel values, dropping those above the percentile if asked.
-double robustMean(std::vector<double> values, float percentile) {
-  if (values.empty()) return 0;
-  if (percentile > 0 && percentile < 100) {
-    size_t keep = std::max<size_t>(1, size_t(std::ceil(values.size() * percentile / 100.0)));
-    std::nth_element(values.begin(), values.begin() + (keep - 1), values.end());
-    values.resize(keep);
-  }
-  double sum = 0;
-  for (double v : values) sum += v;
-  return sum / double(values.size());
-}
+
+bool hasVariance(const Image& v, const Image& x) { return v.width == x.width && v.height == x.height && !v.pixels.empty(); }
+
 }  // namespace
 
-ErrorMetrics computeMetrics(const Image& x, const Image& r, const MetricSettings& s, const Crop& crop) {
-  Crop c = crop.empty() ? Crop{0, 0, x.width, x.height} : crop;
-  std::vector<double> se, rel, ape;
-  size_t n = size_t(c.x1 - c.x0) * size_t(c.y1 - c.y0);
-  se.reserve(n), rel.reserve(n), ape.reserve(n);
-  const double eps = s.relEpsilon;
-  for (int y = c.y0; y < c.y1; ++y)
+SquaredErrorValue squaredError(const Image& x, const Image& r, const Image& v, SquaredError kind,
+                               const MetricSettings& s, const Crop& crop, int tileSize) {
+  const Crop c = crop.empty() ? Crop{0, 0, x.width, x.height} : crop;
+  const bool corrected = hasVariance(v, x);
+  const int tilesX = (x.width + tileSize - 1) / tileSize, tilesY = (x.height + tileSize - 1) / tileSize;
+  SquaredErrorValue out;
+  out.tileSum.assign(size_t(tilesX) * tilesY, 0.0);
+  out.tileCount.assign(out.tileSum.size(), 0.0);
+  // Per pixel: the raw and corrected channel means, and its tile.
+  struct Term {
+    double raw, corrected;
+    size_t tile;
+  };
+  std::vector<Term> terms;
+  terms.reserve(size_t(c.x1 - c.x0) * size_t(c.y1 - c.y0));
+  for (int py = c.y0; py < c.y1; ++py)
     for (int px = c.x0; px < c.x1; ++px) {
-      double a = 0, b = 0, d = 0;
+      double raw = 0, cor = 0;
       for (int ch = 0; ch < 3; ++ch) {
-        double xv = x.at(px, y)[ch], rv = r.at(px, y)[ch], diff = xv - rv;
-        a += diff * diff;
-        b += diff * diff / (rv * rv + eps);
-        d += std::abs(diff) / (std::abs(rv) + eps);
+        double rv = r.at(px, py)[ch], diff = double(x.at(px, py)[ch]) - rv;
+        double w = squaredErrorWeight(kind, rv, s.relEpsilon);
+        raw += w * diff * diff;
+        cor += w * (diff * diff - (corrected ? double(v.at(px, py)[ch]) : 0.0));
       }
-      se.push_back(a / 3), rel.push_back(b / 3), ape.push_back(d / 3);
+      terms.push_back({raw / 3, cor / 3, size_t(py / tileSize) * tilesX + size_t(px / tileSize)});
     }
+  if (terms.empty()) return out;
+  if (kind == SquaredError::RelMseTrimmed && s.trimFraction > 0) {
+    // Keep the smallest raw terms: the rejected pixels are chosen by what
+    // the run shows (its fireflies), the kept ones then corrected.
+    // (+1e-6: a fraction written 0.01 is the float 0.0099999998.)
+    size_t reject = std::min(terms.size() - 1, size_t(std::floor(double(terms.size()) * s.trimFraction + 1e-6)));
+    size_t keep = terms.size() - reject;
+    std::nth_element(terms.begin(), terms.begin() + (keep - 1), terms.end(),
+                     [](const Term& a, const Term& b) { return a.raw < b.raw; });
+    terms.resize(keep);
+  }
+  double raw = 0, cor = 0;
+  for (const Term& t : terms) {
+    raw += t.raw, cor += t.corrected;
+    out.tileSum[t.tile] += 3 * t.corrected;
+    out.tileCount[t.tile] += 3;
+  }
+  out.raw = raw / double(terms.size());
+  out.corrected = cor / double(terms.size());
+  return out;
+}
+
+ErrorMetrics computeMetrics(const Image& x, const Image& r, const MetricSettings& s, const Crop& crop,
+                            const Image& variance) {
   ErrorMetrics m;
-  m.rmse = std::sqrt(robustMean(se, s.outlierPercentile));
-  m.relMse = robustMean(rel, s.outlierPercentile);
-  m.mape = 100 * robustMean(ape, s.outlierPercentile);
+  SquaredErrorValue mse = squaredError(x, r, variance, SquaredError::Mse, s, crop);
+  SquaredErrorValue rel = squaredError(x, r, variance, SquaredError::RelMse, s, crop);
+  SquaredErrorValue trimmed = squaredError(x, r, variance, SquaredError::RelMseTrimmed, s, crop);
+  m.rmse = std::sqrt(mse.raw), m.mseCorrected = mse.corrected;
+  m.relMse = rel.raw, m.relMseCorrected = rel.corrected;
+  m.relMseTrimmed = trimmed.raw, m.relMseTrimmedCorrected = trimmed.corrected;
+  const Crop c = crop.empty() ? Crop{0, 0, x.width, x.height} : crop;
+  double ape = 0;
+  for (int y = c.y0; y < c.y1; ++y)
+    for (int px = c.x0; px < c.x1; ++px)
+      for (int ch = 0; ch < 3; ++ch) {
+        double rv = r.at(px, y)[ch];
+        ape += std::abs(double(x.at(px, y)[ch]) - rv) / (std::abs(rv) + s.relEpsilon);
+      }
+  size_t n = size_t(c.x1 - c.x0) * size_t(c.y1 - c.y0) * 3;
+  m.mape = n ? 100 * ape / double(n) : 0;
   return m;
 }
 

@@ -184,6 +184,8 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     Reference r;
     r.image = acc.meanImage();
     r.varianceOfMean = acc.varianceOfMean();
+    r.chunks = acc.chunks;
+    r.chunkSpp = spec.chunkSpp;
     if (acc.chunks > 1) r.variance = acc.varianceOfMeanImage();
     std::ostringstream d;
     d << spec.integrator << " " << flowYaml(spec.params) << ", " << acc.chunks << " chunks of " << spec.chunkSpp

@@ -37,6 +37,8 @@ struct Reference {
   double varianceOfMean = NAN;
   // Per pixel and channel (empty for a given EXR, or a single chunk).
   Image variance;
+  uint64_t chunks = 0;  // it was estimated from (0 for a given EXR)
+  uint64_t chunkSpp = 0;
   // What was used: integrator, chunks, samples, seconds (for meta.json).
   std::string description;
 };

@@ -15,14 +15,20 @@ Debian's python3-matplotlib and numpy; run it with /usr/bin/python3. The
 viewer reads the run's EXRs through the `lightbench` Python module when it is
 importable (the runner puts it on PYTHONPATH), else the 8-bit PNGs.
 
+The table, the ranking and every interval come from the run's verdict
+files (verdict.csv and its companions, written by the runner or by
+`lightbench verdict RUN`; read by experiments/verdict.py): nothing here
+tests or ranks.
+
 Per scene it draws (SCENE__NAME.{png,svg}, experiments/report/plots.py)
   * convergence: RMSE and relMSE vs time and RMSE vs samples per pixel, one
-    curve per configuration, the median over repeats with the min-max band,
-    and for unbiased methods the least-squares slope of log error on log time
-    (about -0.5 for RMSE, -1 for relMSE); the panels also on their own
-    (rmse_vs_time, relmse_vs_time, rmse_vs_spp);
+    curve per configuration, the mean over repeats of the error corrected for
+    the reference's noise with its confidence band, and for unbiased methods
+    the least-squares slope of log error on log time (about -0.5 for RMSE, -1
+    for relMSE); the panels also on their own (rmse_vs_time, relmse_vs_time,
+    rmse_vs_spp);
   * crop_convergence: the same against time for the scene's crop, if it has one;
-  * efficiency 1 / (MSE x time) at the final snapshot (Veach 1997, section 2.4);
+  * efficiency 1 / (error x time) at the final snapshot (Veach 1997, section 2.4);
   * per parameter sweep (meta.json's configurations[].sweep), its final RMSE
     against the swept value (sweep-GROUP); its members share a colour family
     in every plot and stand together under the group's name in the legends.
@@ -30,6 +36,7 @@ Per scene it draws (SCENE__NAME.{png,svg}, experiments/report/plots.py)
 import csv
 import html
 import json
+import math
 import os
 import shutil
 import sys
@@ -37,7 +44,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "report"))
 
-from verdict import NO_VERDICT_FACTOR  # noqa: E402 (this script's folder is on sys.path)
+from verdict import METRIC_NAMES, rank_text, read_verdict  # noqa: E402 (this script's folder is on sys.path)
 import images  # noqa: E402
 import page  # noqa: E402
 from plots import plot_scene, value_text  # noqa: E402
@@ -56,52 +63,81 @@ def read_decomposition(run_dir):
     return out
 
 
-def scene_notes(scene_meta, table, best):
-    """The reference line, the noise-floor warning and the ranks. A final
-    RMSE within NO_VERDICT_FACTOR x the reference's own noise cannot be told
-    from the reference's error: such a configuration is not ranked (issue 13)."""
+def fmt(v):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "—"
+    if math.isinf(v):
+        return "∞"
+    return f"{v:.3g}"
+
+
+def verdict_settings(meta):
+    v = (meta or {}).get("verdict") or {}
+    return v.get("confidence", 0.95), v.get("looks", 1)
+
+
+def scene_notes(scene_meta, verdict, table, meta):
+    """The reference line, what the ranking is and what it decided: the best
+    configuration's rank group and every adjacent pair still undecided, with
+    why (verdict_pairs.csv's reason)."""
     ref = page.describe_reference(scene_meta.get("reference_integrator"))
     used = scene_meta.get("reference_used", "")
     floor = scene_meta.get("reference_rmse_floor")
-    judged = lambda t: not floor or t["rmse"] >= NO_VERDICT_FACTOR * floor  # noqa: E731
-    ranked = sorted((l for l, t in table.items() if judged(t)), key=lambda l: table[l]["rmse"])
-    rank = {label: i + 1 for i, label in enumerate(ranked)}
-    floor_text = (f" Its own noise (sqrt of its mean per-pixel variance) is {floor:.3g}: every measured MSE "
-                  "includes its square, so RMSE cannot be seen to fall below it." if floor else "")
-    best_text = (f"Best final RMSE: <b>{esc(best)}</b>." if best in rank else
-                 f"Best final RMSE: {esc(best)}, within {NO_VERDICT_FACTOR:g}× the reference's noise floor: "
-                 "<b>no verdict (reference too noisy)</b>.")
-    out = [f"<p>Reference: {esc(ref)}" + (f" ({esc(used)})" if used else "") + f".{floor_text} {best_text}</p>"]
-    close = [l for l, t in table.items() if not judged(t)]
-    if close:
-        out.append(
-            "<div class='warn strong'><b>Reference too noisy for: " + esc(", ".join(close)) + ".</b> Their "
-            "final RMSE (" + esc(", ".join(f"{table[l]['rmse']:.3g}" for l in close)) + ") is within "
-            f"{NO_VERDICT_FACTOR:g}× the reference's noise floor ({floor:.3g} RMSE): the reference's own error "
-            "could account for the differences, so they are not ranked (no verdict). A longer reference (a lower "
-            "noise_floor in the experiment file) would settle it.</div>")
+    floor_text = (f" Its own noise (√ of its mean per-pixel variance of the mean) is {floor:.3g} RMSE: every "
+                  "measured MSE includes its square, so the errors below are <b>corrected</b> for it (each squared "
+                  "term less the reference's variance there), estimating the error against the true image; "
+                  "the intervals include the correction's own uncertainty." if floor else
+                  " Its variance is unknown (a given EXR): errors are not corrected for its noise.")
+    out = [f"<p>Reference: {esc(ref)}" + (f" ({esc(used)})" if used else "") + f".{floor_text}</p>"]
+    if verdict is None:
+        out.append("<p class='warn'>No verdict files in this run folder (a run from before issue 32, or a log "
+                   "alone): the table is sorted by the raw final RMSE and ranks nothing. <code>lightbench verdict "
+                   "RUN</code> writes them.</p>")
+    else:
+        confidence, looks = verdict_settings(meta)
+        name = METRIC_NAMES.get(verdict.metric, verdict.metric)
+        level = (f"{100 * confidence:g} % family-wise over every pair of configurations (Holm)"
+                 + (f", the level split among the run's {looks} looks (Bonferroni)" if looks > 1 else ""))
+        best = verdict.rows[0]
+        tied = [r["label"] for r in verdict.rows if r["rank_group"].split("-")[0] == "1"]
+        if best["decided"]:
+            best_text = f"Best: <b>{esc(best['label'])}</b>, rank 1 decided."
+        else:
+            best_text = (f"Best: {esc(best['label'])}, in rank group {esc(rank_text(best))} with "
+                         + esc(", ".join(l for l in tied if l != best["label"]) or "others") + ".")
+        out.append(f"<p>Ranked by <b>{esc(name)}</b>, corrected; rank groups at {level}. {best_text}</p>")
+        undecided = verdict.undecided()
+        if undecided:
+            items = "".join(f"<li>{esc(p['better'])} vs {esc(p['worse'])} ({p['repeats_better']} and "
+                            f"{p['repeats_worse']} repeats, Holm p = {fmt(p['p_holm'])}): {esc(p['reason'])}</li>"
+                            for p in undecided)
+            out.append(f"<div class='warn'><b>Undecided neighbours</b> (tied in the ranking):<ul>{items}</ul></div>")
     # A last pass always ends a little after the budget; only an overrun
     # above 1 % of the run's time makes the comparison unequal.
     over = {l: t["over_budget"] for l, t in table.items() if t["over_budget"] > 0.01 * t["time"]}
     if over:
         out.append("<p class='warn'><b>Over budget</b> (not an equal-time comparison for these; the table's last "
                    "column): " + esc(", ".join(f"{l} by {v:.3g} s" for l, v in sorted(over.items()))) + ".</p>")
-    return "".join(out), rank
+    return "".join(out)
 
 
-def convergence_caption(repeats, floor, crop=None):
-    band = (f"Lines: median over the {repeats} repeats; shaded bands: min–max over the repeats (their whole "
-            "spread, not a confidence interval). " if repeats > 1 else "One repeat: no band. ")
+def convergence_caption(repeats, floor, crop=None, verdict=None, confidence=0.95):
+    if verdict is not None:
+        band = (f"Lines: the mean over the {repeats} repeats of the error corrected for the reference's noise "
+                f"(where positive); shaded bands: its {100 * confidence:g} % confidence interval (Student t over "
+                "the repeats: the runs' spread, not the reference's). " if repeats > 1 else
+                "Lines: the error corrected for the reference's noise (one repeat: no band). ")
+    else:
+        band = ("Lines: the median of the raw errors over the repeats (no verdict files: no bands). ")
     text = (band + "Dashed: biased or consistent methods, for which no slope is fitted (there is no −0.5 to "
             "compare with); nor is one where preprocessing takes more than half the final time. Slope: "
-            "least-squares fit of log error on log time over every snapshot of every repeat; an unbiased "
-            "method's RMSE falls as time<sup>−0.5</sup> and its relMSE as time<sup>−1</sup>. Time includes "
-            "preprocessing.")
+            "least-squares fit of log error on log time over every snapshot of every repeat (corrected errors); "
+            "an unbiased method's RMSE falls as time<sup>−0.5</sup> and its relMSE as time<sup>−1</sup>. Time "
+            "includes preprocessing.")
     if crop:
-        return (f"Crop [{crop[0]}, {crop[2]}) × [{crop[1]}, {crop[3]}) only. " + text
-                + " The reference's noise floor is known for the whole image only, so none is drawn here.")
+        return (f"Crop [{crop[0]}, {crop[2]}) × [{crop[1]}, {crop[3]}) only. " + text)
     if floor:
-        text += f" Dotted: the reference's noise floor ({floor:.3g} RMSE)."
+        text += f" Dotted: the reference's noise floor ({floor:.3g} RMSE); corrected errors can fall below it."
     return text
 
 
@@ -110,7 +146,8 @@ def sweep_caption(group, members, repeats):
     values = list(dict.fromkeys(value_text(v[keys[0]]) for _, v in members))
     lines = (f"; one line per value of {esc(', '.join(keys[1:]))}" if len(keys) > 1 else "")
     faint = "; faint lines: each repeat on its own, the members sharing the repeats' seeds" if len(keys) == 1 else ""
-    spread = f"mean over the {repeats} repeats (error bars: min–max over them{faint})" if repeats > 1 else "one repeat"
+    spread = (f"corrected, with its confidence interval over the {repeats} repeats{faint}" if repeats > 1
+              else "one repeat")
     return (f"Sweep <b>{esc(group)}</b>: {len(members)} configurations. Final RMSE, {spread}, against "
             f"{esc(keys[0])} ({esc(', '.join(values))}){lines}. In the other plots its members share one colour "
             "family, lighter to darker in the experiment's order, and stand under its name in the legend.")
@@ -120,6 +157,8 @@ def write_report(run_dir, grouped, meta):
     parts = [page.head(meta.get("experiment", "")), page.run_header(meta)]
     scenes_meta = {s["name"]: s for s in meta.get("scenes", [])}
     decomposition = read_decomposition(run_dir)
+    verdicts = read_verdict(run_dir)
+    confidence, _ = verdict_settings(meta)
     chosen = meta.get("metrics") or ["rmse", "relmse", "mape", "variance"]
     files = {}
     # The experiment's order, whatever order parallel runs logged in: the
@@ -129,16 +168,16 @@ def write_report(run_dir, grouped, meta):
         labels = dict(sorted(labels.items(), key=lambda kv: order.get(kv[0], len(order))))
         sm = scenes_meta.get(scene, {})
         floor = sm.get("reference_rmse_floor")
-        table, best = summary(labels, meta)
+        table = summary(labels, meta)
+        verdict = verdicts.get(scene)
         sweeps = sweep_members(labels, meta)
-        plots, colour = plot_scene(scene, labels, table, run_dir, floor, sweeps)
+        plots, colour = plot_scene(scene, labels, table, run_dir, floor, sweeps, verdict, confidence)
         files[scene] = plots
         repeats = max(len(r) for r in labels.values())
         slugs = {l: slug(l) for l in labels}
-        notes, rank = scene_notes(sm, table, best)
-        parts += [f"<h2>{esc(scene)}</h2>", notes]
+        parts += [f"<h2>{esc(scene)}</h2>", scene_notes(sm, verdict, table, meta)]
 
-        grid = page.image_grid(run_dir, scene, labels, slugs, table, colour, sm)
+        grid = page.image_grid(run_dir, scene, labels, slugs, table, colour, sm, verdict)
         parts.append("<h3>Final images</h3>" + grid if grid else
                      "<p class='caption'>No images in this run folder (only the log).</p>")
         payload, vnotes = images.viewer_payload(run_dir, scene, labels, slugs, sm, meta) if grid else (None, [])
@@ -146,27 +185,27 @@ def write_report(run_dir, grouped, meta):
             parts += ["<h3>Viewer</h3>", page.viewer_block(index, payload, vnotes)]
 
         parts.append("<h3>Error against time</h3>")
-        parts.append(page.plot_figure(plots["convergence"], convergence_caption(repeats, floor)))
+        parts.append(page.plot_figure(plots["convergence"], convergence_caption(repeats, floor, None, verdict,
+                                                                                  confidence)))
         if "crop_convergence" in plots:
-            caption = convergence_caption(repeats, None, sm.get("crop"))
+            caption = convergence_caption(repeats, None, sm.get("crop"), verdict, confidence)
             parts.append(page.plot_figure(plots["crop_convergence"], caption))
         if sweeps:
             parts.append("<h3>Parameter sweeps</h3><div class='sweeps'>" + "".join(
                 page.plot_figure(plots["sweeps"][g], sweep_caption(g, m, repeats)) for g, m in sweeps.items())
                 + "</div>")
 
-        # The experiment's `metrics` list chooses the metric columns (RMSE is
-        # always shown: the plots, time-to-best and efficiency are built on it).
+        # The experiment's `metrics` list chooses the metric columns beside
+        # the ranked one (crop metrics where the scene has a crop).
         parts.append("<h3>Final snapshot</h3>")
-        parts.append(page.ranking_table(table, rank, chosen, has_crop(labels)))
-        parts.append("<p class='caption'>Best final RMSE first; rank only where the reference's noise allows a "
-                     "verdict. Slope: of log error on log time (see the plots); none for biased or consistent "
-                     "methods (b) or where preprocessing takes over half the time (p). Time to best's final RMSE: "
-                     "when the median curve first reaches the best configuration's final median RMSE (—: not "
-                     "within the budget). Efficiency relative to the most efficient.</p>")
+        parts.append(page.ranking_table(table, verdict, chosen, has_crop(labels), meta))
+        parts.append(page.ranking_caption(verdict, meta))
         if decomposition.get(scene):
             parts.append(page.decomposition_table(decomposition[scene]))
-        parts.append(page.plot_figure(plots["efficiency"], "Efficiency 1/(MSE·time) at the final snapshot, mean "
+        parts.append(page.plot_figure(plots["efficiency"], "Efficiency 1/(error·time) at the final snapshot "
+                                      "(Veach 1997, section 2.4), the error the ranked metric corrected, with its "
+                                      "interval; log scale. A bar without an upper end: its corrected error may be "
+                                      "0." if verdict else "Efficiency 1/(MSE·time) at the final snapshot, mean "
                                       "over repeats (Veach 1997, section 2.4); log scale."))
     parts.append(page.tail())
     out = os.path.join(run_dir, "report.html")
@@ -218,7 +257,7 @@ def main(argv):
     if meta is not None:
         _, plots = write_report(run_dir, grouped, meta)
     else:
-        plots = {scene: plot_scene(scene, labels, summary(labels)[0], run_dir)[0] for scene, labels in grouped.items()}
+        plots = {scene: plot_scene(scene, labels, summary(labels), run_dir)[0] for scene, labels in grouped.items()}
     # The first scene's RMSE-vs-time plot also goes under a fixed name.
     first = next(iter(plots.values()))
     shutil.copyfile(first["rmse_vs_time"], os.path.join(run_dir, "rmse_vs_time.png"))

@@ -6,10 +6,14 @@
 
 namespace lb {
 
-const char* const LogColumns[] = {"scene",        "label",     "integrator",  "repeat",    "seed",          "time_s",
-                                  "preprocess_s", "spp",       "rmse",        "relmse",    "mape",          "variance",
-                                  "nonfinite",    "rmse_crop", "relmse_crop", "mape_crop", "over_budget_s", "host",
-                                  "cpu",          "threads",   "final",       nullptr};
+const char* const LogColumns[] = {
+    "scene", "label", "integrator", "repeat", "seed", "time_s", "preprocess_s", "spp", "rmse", "relmse", "mape",
+    "variance", "nonfinite", "rmse_crop", "relmse_crop", "mape_crop", "over_budget_s", "host", "cpu", "threads",
+    // Issue 32: the trimmed relMSE, and the squared errors corrected for the
+    // reference's noise (experiments/metrics.h; MSE, since a corrected MSE
+    // can be negative). `final` stays last: a run is finished by its last field.
+    "relmse_trimmed", "mse_corrected", "relmse_corrected", "relmse_trimmed_corrected", "mse_crop_corrected",
+    "relmse_crop_corrected", "final", nullptr};
 
 size_t logColumnCount() {
   size_t n = 0;

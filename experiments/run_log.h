@@ -13,7 +13,9 @@ namespace lb {
 
 // Columns of log.csv, in order (nullptr-terminated). `host`, `cpu` and
 // `threads` say where a run was timed: the report compares times only
-// between runs of one kind of machine (cpu and threads).
+// between runs of one kind of machine (cpu and threads). The metrics are
+// experiments/metrics.h's: raw, and the squared errors also corrected for
+// the reference's noise (`*_corrected`).
 extern const char* const LogColumns[];
 size_t logColumnCount();
 

@@ -50,7 +50,7 @@ std::string repeatImagePath(const std::string& stem, int repeat) {
   return repeat == 0 ? stem + ".exr" : stem + "__repeat" + std::to_string(repeat) + ".exr";
 }
 
-RunOutcome performRun(const RunEnvironment& env, const RunTask& t, const Image& ref,
+RunOutcome performRun(const RunEnvironment& env, const RunTask& t, const Image& ref, const Image& refVariance,
                       const std::function<void(std::vector<std::string>&&)>& row,
                       const std::function<void(const RunProgress&)>& progress) {
   const Experiment& e = *env.experiment;
@@ -104,8 +104,8 @@ RunOutcome performRun(const RunEnvironment& env, const RunTask& t, const Image& 
   const MachineColumns& m = env.machine;
   auto makeRow = [&](const std::string& label, const Image& img, double seconds, double preprocess, uint64_t passes,
                      double variance, bool final, double* rmse) {
-    ErrorMetrics em = computeMetrics(img, ref, e.metricSettings);
-    ErrorMetrics mc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(img, ref, e.metricSettings, es.crop);
+    ErrorMetrics em = computeMetrics(img, ref, e.metricSettings, {}, refVariance);
+    ErrorMetrics mc = es.crop.empty() ? ErrorMetrics{} : computeMetrics(img, ref, e.metricSettings, es.crop, refVariance);
     if (rmse) *rmse = em.rmse;
     return std::vector<std::string>{es.name,
                                     label,
@@ -127,6 +127,12 @@ RunOutcome performRun(const RunEnvironment& env, const RunTask& t, const Image& 
                                     m.host,
                                     m.cpu,
                                     std::to_string(m.threads),
+                                    logNumber(em.relMseTrimmed),
+                                    logNumber(em.mseCorrected),
+                                    logNumber(em.relMseCorrected),
+                                    logNumber(em.relMseTrimmedCorrected),
+                                    es.crop.empty() ? "" : logNumber(mc.mseCorrected),
+                                    es.crop.empty() ? "" : logNumber(mc.relMseCorrected),
                                     final ? "1" : "0"};
   };
   auto record = [&](uint64_t passes, double seconds, double preprocess, bool final, const Denoised* denoised) {
@@ -175,11 +181,16 @@ void writeRunImages(const std::string& runDir, const Experiment& e, const RunTas
       writePng(stem + "_error_crop.png", cropImage(err, es.crop, 4));
     }
   };
-  // Every repeat's final image, for the bias²/variance split over repeats.
-  if (t.repeat > 0) writeExr(repeatImagePath(stem, t.repeat), outcome.image);
-  if (t.repeat == 0) writeImages(stem, outcome.image);
-  if (outcome.denoised && t.repeat == 0)
-    writeImages(runDir + "/" + es.name + "__" + slug(c.denoisedLabel()), *outcome.denoised);
+  // Every repeat's final image (the denoised one too), for the verdict and
+  // the bias²/variance split over repeats.
+  std::string denoisedStem = runDir + "/" + es.name + "__" + slug(c.denoisedLabel());
+  if (t.repeat > 0) {
+    writeExr(repeatImagePath(stem, t.repeat), outcome.image);
+    if (outcome.denoised) writeExr(repeatImagePath(denoisedStem, t.repeat), *outcome.denoised);
+  } else {
+    writeImages(stem, outcome.image);
+    if (outcome.denoised) writeImages(denoisedStem, *outcome.denoised);
+  }
 }
 
 }  // namespace lb

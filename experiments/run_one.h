@@ -54,8 +54,10 @@ struct RunOutcome {
 
 // Renders the run. Each row goes to `row` as it is made, a denoised row
 // before its raw one, and the final raw row last; `progress` is called after
-// each raw row.
+// each raw row. `referenceVariance` (per pixel, of the reference's mean;
+// empty if unknown) corrects the logged squared errors.
 RunOutcome performRun(const RunEnvironment& env, const RunTask& task, const Image& reference,
+                      const Image& referenceVariance,
                       const std::function<void(std::vector<std::string>&&)>& row,
                       const std::function<void(const RunProgress&)>& progress);
 

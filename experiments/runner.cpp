@@ -24,6 +24,7 @@
 #include "experiments/run_log.h"
 #include "experiments/run_one.h"
 #include "experiments/validate.h"
+#include "experiments/verdict/run_folder.h"
 #include "integrators/registry.h"
 
 namespace fs = std::filesystem;
@@ -68,26 +69,28 @@ fs::path createRunDir(const Experiment& e, const RunnerOptions& o) {
 
 // decomposition.csv: each configuration's final MSE split into bias² and
 // variance over its repeats, with 95 % intervals (experiments/decomposition.h).
-// Read back from the run folder, so a resumed run includes the earlier runs.
-void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::vector<Image>& references,
-                        const std::vector<Image>& referenceVariances) {
+// Read back from the run folder, so a resumed run includes the earlier runs;
+// the repeats [0, targets[scene][configuration]) of a sequential run.
+void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::vector<Reference>& references,
+                        const RepeatTargets& targets) {
   std::ostringstream csv;
   csv << "scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,variance_high,"
          "reference_variance\n";
   for (size_t si = 0; si < e.scenes.size(); ++si)
-    for (const auto& c : e.configurations) {
+    for (size_t ci = 0; ci < e.configurations.size(); ++ci) {
+      const Configuration& c = e.configurations[ci];
       std::string stem = (runDir / (e.scenes[si].name + "__" + slug(c.label))).string();
       // The repeats whose images are there: a run resumed from a folder that
       // a version without them started has fewer. Never fails the run.
       std::vector<Image> finals;
-      for (int r = 0; r < e.repeats; ++r)
+      for (int r = 0; r < targets[si][ci]; ++r)
         if (fs::exists(repeatImagePath(stem, r))) finals.push_back(readExr(repeatImagePath(stem, r)));
       if (finals.size() < 2) {
         std::cerr << "warning: " << e.scenes[si].name << " / " << c.label << ": " << finals.size()
                   << " final image(s) of its repeats in the run folder; no bias²/variance split\n";
         continue;
       }
-      ErrorDecomposition d = decomposeError(finals, references[si], referenceVariances[si]);
+      ErrorDecomposition d = decomposeError(finals, references[si].image, references[si].variance);
       csv << csvField(e.scenes[si].name) << "," << csvField(c.label) << "," << c.integrator << "," << d.repeats;
       // An unknown reference variance (a given EXR) is an empty field: bias²
       // then includes it (the report says so).
@@ -187,33 +190,32 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
 
   // References (rendered with every core, or by every worker) before the run
   // folder exists: a reference that fails leaves no half-started run.
-  std::vector<Image> references, referenceVariances;
-  std::vector<double> referenceFloors;
-  std::vector<std::string> referenceDescriptions;
-  for (size_t si = 0; si < e.scenes.size(); ++si) {
-    const ExperimentScene& s = e.scenes[si];
-    Reference obtained;
+  std::vector<Reference> references(e.scenes.size());
+  auto obtain = [&](size_t si, const ExperimentScene& s) {
     if (!s.reference.file.empty()) {
       std::cerr << "reference: " << s.reference.file << " (given)\n";
-      obtained.image = std::move(checked.givenReferences[si]);
-    } else if (farm) {
+      Reference given;
+      given.image = checked.givenReferences[si];
+      given.description = "file " + s.reference.file;
+      return given;
+    }
+    if (farm) {
       RemoteChunks remote{*farm, [si, &job](uint64_t k) {
                             return ByteWriter().str(job).u64(ReferenceChunkTask).u64(si).u64(k).take();
                           }};
-      obtained = obtainReference(s, o.resultsRoot, referenceIds[si], &remote);
-    } else {
-      obtained = obtainReference(s, o.resultsRoot, referenceIds[si]);
+      return obtainReference(s, o.resultsRoot, referenceIds[si], &remote);
     }
+    return obtainReference(s, o.resultsRoot, referenceIds[si]);
+  };
+  for (size_t si = 0; si < e.scenes.size(); ++si) {
+    const ExperimentScene& s = e.scenes[si];
+    references[si] = obtain(si, s);
     const Camera& camera = checked.scenes[si].scene->camera;
     // A given EXR of another size is refused before this; a safety net.
-    if (obtained.image.width != camera.width() || obtained.image.height != camera.height())
-      throw s.referenceAt.error("reference of " + s.name + " is " + std::to_string(obtained.image.width) + "×" +
-                                std::to_string(obtained.image.height) + ", the scene renders " +
+    if (references[si].image.width != camera.width() || references[si].image.height != camera.height())
+      throw s.referenceAt.error("reference of " + s.name + " is " + std::to_string(references[si].image.width) + "×" +
+                                std::to_string(references[si].image.height) + ", the scene renders " +
                                 std::to_string(camera.width()) + "×" + std::to_string(camera.height()));
-    references.push_back(std::move(obtained.image));
-    referenceVariances.push_back(std::move(obtained.variance));
-    referenceDescriptions.push_back(obtained.description.empty() ? "file " + s.reference.file : obtained.description);
-    referenceFloors.push_back(std::sqrt(obtained.varianceOfMean));
   }
 
   std::atomic<size_t> done{0};  // runs finished by this process
@@ -239,91 +241,95 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
 
   std::set<std::string> completed;
   LogWriter log((runDir / "log.csv").string(), o.resume, &completed);
+  std::mutex completedMutex;
 
   int jobs = farm ? 1 : std::max(1, std::min(o.jobs, tbb::info::default_concurrency()));
   // Under MPI: what a worker on rank 0's node uses (each row has its own).
   int threads = farm ? workerThreads(o.threads, farm->cluster()) : threadsPerRun(o, jobs);
   RunMeta meta = startMeta(e, runDir.string(), threads, jobs, experimentHash);
   meta.ranks = farm ? farm->cluster().size() : 1;
-  for (size_t si = 0; si < e.scenes.size(); ++si) {
+  // The reference beside the run's images, with its variance: the folder is
+  // complete for the verdict, lightbench.load_run and the report's viewer.
+  auto recordReference = [&](size_t si) {
     const ExperimentScene& s = e.scenes[si];
-    meta.referenceRmseFloor[s.name] = referenceFloors[si];
+    const Reference& r = references[si];
+    meta.referenceRmseFloor[s.name] = std::sqrt(r.varianceOfMean);
     meta.referenceKeys[s.name] = referenceIds[si];
-    meta.referenceUsed[s.name] = referenceDescriptions[si];
-    // The reference beside the run's images: the folder is complete for
-    // lightbench.load_run and the report's viewer.
-    writeExr((runDir / (s.name + "__reference.exr")).string(), references[si]);
-    writePng((runDir / (s.name + "__reference.png")).string(), references[si]);
+    meta.referenceUsed[s.name] = r.description.empty() ? "file " + s.reference.file : r.description;
+    meta.referenceChunks[s.name] = r.chunks;
+    writeExr((runDir / (s.name + "__reference.exr")).string(), r.image);
+    fs::path variance = runDir / (s.name + "__reference_variance.exr");
+    if (!r.variance.pixels.empty()) writeExr(variance.string(), r.variance);
+    else fs::remove(variance);
+    writePng((runDir / (s.name + "__reference.png")).string(), r.image);
     if (!s.crop.empty())
-      writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(references[si], s.crop, 4));
-  }
-
-  std::vector<RunTask> tasks;
-  for (size_t si = 0; si < e.scenes.size(); ++si)
-    for (size_t ci = 0; ci < e.configurations.size(); ++ci)
-      for (int r = 0; r < e.repeats; ++r)
-        if (!completed.count(runKey(e.scenes[si].name, e.configurations[ci].label, std::to_string(r))))
-          tasks.push_back({si, ci, r});
-  size_t totalRuns = e.scenes.size() * e.configurations.size() * size_t(e.repeats);
-  if (tasks.size() < totalRuns) std::cerr << "resume: " << totalRuns - tasks.size() << " of " << totalRuns << " runs already complete\n";
+      writePng((runDir / (s.name + "__reference_crop.png")).string(), cropImage(r.image, s.crop, 4));
+  };
+  for (size_t si = 0; si < e.scenes.size(); ++si) recordReference(si);
+  writeMeta(meta, e, runDir.string(), false);
 
   const bool timeBudget = e.budget.seconds > 0;
   auto experimentStart = Clock::now();
   std::mutex progressMutex;
-  auto elapsedText = [&](double runSeconds, bool final) {
-    double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
-    // Per run: the time budget, or (sample budgets) the mean of finished runs.
-    double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
-    int parallel = farm ? farm->workers() : jobs;
-    double eta = perRun > 0 ? perRun * double(tasks.size() - done) / parallel - (final ? 0 : runSeconds) : 0;
-    return "(elapsed " + formatDuration(elapsed) + (eta > 0 ? ", ETA " + formatDuration(eta) : "") + ")";
-  };
+  RunEnvironment env = makeRunEnvironment(e, checked.scenes, thisMachine(threads));
+  std::set<std::pair<int, size_t>> sentReference;  // (worker, scene): a worker has the reference
+  double handlingSeconds = 0;                       // rank 0's own work per run under MPI
 
-  if (farm) {
-    // Runs go to whichever worker asks; each comes back whole (its rows and
-    // final images), and is written here: the images first, the rows last,
-    // as a single process does. A worker is sent a scene's reference with
-    // its first run of that scene.
-    std::set<std::pair<int, size_t>> sentReference;
-    double handlingSeconds = 0;
-    size_t next = 0;
-    std::map<int, RunTask> running;
-    farm->distribute(
-        [&](int worker) -> std::optional<std::string> {
-          if (next >= tasks.size()) return std::nullopt;
-          const RunTask& t = tasks[next++];
-          running[worker] = t;
-          ByteWriter w;
-          w.str(job).u64(RunTaskKind).u64(t.scene).u64(t.config).u64(uint64_t(t.repeat));
-          bool send = sentReference.insert({worker, t.scene}).second;
-          w.u64(send ? 1 : 0);
-          if (send) w.image(references[t.scene]);
-          return w.take();
-        },
-        [&](int worker, std::string&& bytes) {
-          auto handleStart = Clock::now();
-          RunTask t = running.at(worker);
-          std::vector<std::vector<std::string>> rows;
-          RunOutcome outcome;
-          decodeRunResult(bytes, rows, outcome);
-          writeRunImages(runDir.string(), e, t, outcome, references[t.scene]);
-          for (const auto& r : rows) log.write(r);
-          ++done;
-          const std::vector<std::string>& last = rows.back();
-          std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  done on %s (rank %d, threads %s): t=%ss spp=%s RMSE=%s  %s\n",
-                       done.load(), tasks.size(), e.scenes[t.scene].name.c_str(),
-                       ("'" + e.configurations[t.config].label + "'").c_str(), t.repeat + 1, last[17].c_str(), worker,
-                       last[19].c_str(), last[5].c_str(), last[7].c_str(), last[8].c_str(),
-                       elapsedText(0, true).c_str());
-          handlingSeconds += std::chrono::duration<double>(Clock::now() - handleStart).count();
-        });
-    // Rank 0's own work per run bounds how many workers it can keep up with
-    // (docs/distributed.md, scaling).
-    if (done > 0)
-      std::fprintf(stderr, "rank 0: %.3f s for %zu runs' results (%.1f ms each: decoding, writing images and rows)\n",
-                   handlingSeconds, done.load(), 1000 * handlingSeconds / double(done));
-  } else {
-    RunEnvironment env = makeRunEnvironment(e, checked.scenes, thisMachine(threads));
+  // Renders the runs not yet finished among `tasks`: here (`jobs` at a
+  // time) or on the farm's workers.
+  auto renderTasks = [&](const std::vector<RunTask>& tasks) {
+    done = 0;
+    auto elapsedText = [&](double runSeconds, bool final) {
+      double elapsed = std::chrono::duration<double>(Clock::now() - experimentStart).count();
+      // Per run: the time budget, or (sample budgets) the mean of finished runs.
+      double perRun = timeBudget ? e.budget.seconds : (done > 0 ? elapsed / double(done) : 0);
+      int parallel = farm ? farm->workers() : jobs;
+      double eta = perRun > 0 ? perRun * double(tasks.size() - done) / parallel - (final ? 0 : runSeconds) : 0;
+      return "(elapsed " + formatDuration(elapsed) + (eta > 0 ? ", ETA " + formatDuration(eta) : "") + ")";
+    };
+    auto finished = [&](const RunTask& t) {
+      std::lock_guard<std::mutex> guard(completedMutex);
+      completed.insert(runKey(e.scenes[t.scene].name, e.configurations[t.config].label, std::to_string(t.repeat)));
+    };
+    if (farm) {
+      // Runs go to whichever worker asks; each comes back whole (its rows and
+      // final images), and is written here: the images first, the rows last,
+      // as a single process does. A worker is sent a scene's reference with
+      // its first run of that scene.
+      size_t next = 0;
+      std::map<int, RunTask> running;
+      farm->distribute(
+          [&](int worker) -> std::optional<std::string> {
+            if (next >= tasks.size()) return std::nullopt;
+            const RunTask& t = tasks[next++];
+            running[worker] = t;
+            ByteWriter w;
+            w.str(job).u64(RunTaskKind).u64(t.scene).u64(t.config).u64(uint64_t(t.repeat));
+            bool send = sentReference.insert({worker, t.scene}).second;
+            w.u64(send ? 1 : 0);
+            if (send) w.image(references[t.scene].image).image(references[t.scene].variance);
+            return w.take();
+          },
+          [&](int worker, std::string&& bytes) {
+            auto handleStart = Clock::now();
+            RunTask t = running.at(worker);
+            std::vector<std::vector<std::string>> rows;
+            RunOutcome outcome;
+            decodeRunResult(bytes, rows, outcome);
+            writeRunImages(runDir.string(), e, t, outcome, references[t.scene].image);
+            for (const auto& r : rows) log.write(r);
+            finished(t);
+            ++done;
+            const std::vector<std::string>& last = rows.back();
+            std::fprintf(stderr, "[run %zu/%zu] %s / %-22s repeat %d  done on %s (rank %d, threads %s): t=%ss spp=%s RMSE=%s  %s\n",
+                         done.load(), tasks.size(), e.scenes[t.scene].name.c_str(),
+                         ("'" + e.configurations[t.config].label + "'").c_str(), t.repeat + 1, last[17].c_str(), worker,
+                         last[19].c_str(), last[5].c_str(), last[7].c_str(), last[8].c_str(),
+                         elapsedText(0, true).c_str());
+            handlingSeconds += std::chrono::duration<double>(Clock::now() - handleStart).count();
+          });
+      return;
+    }
     std::atomic<size_t> next{0};
     auto runOne = [&](const RunTask& t) {
       const ExperimentScene& es = e.scenes[t.scene];
@@ -333,7 +339,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       // it produces is on disk.
       std::vector<std::vector<std::string>> finalRows;
       RunOutcome outcome = performRun(
-          env, t, references[t.scene],
+          env, t, references[t.scene].image, references[t.scene].variance,
           [&](std::vector<std::string>&& row) {
             if (row.back() == "1") finalRows.push_back(std::move(row));
             else log.write(row);
@@ -348,8 +354,9 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                          p.snapshot, p.snapshots, p.seconds, (unsigned long long)p.passes, p.rmse,
                          p.final ? " final" : "", over.c_str(), elapsedText(p.seconds, p.final).c_str());
           });
-      writeRunImages(runDir.string(), e, t, outcome, references[t.scene]);
+      writeRunImages(runDir.string(), e, t, outcome, references[t.scene].image);
       for (const auto& r : finalRows) log.write(r);
+      finished(t);
       ++done;
     };
 
@@ -375,14 +382,69 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
       for (auto& th : pool) th.join();
     }
     if (failure) std::rethrow_exception(failure);
-  }
+  };
+
+  // The looks (verdict/sequential.h): one, with every repeat, unless the
+  // experiment runs until decided. Each look renders what its targets add.
+  bool firstLook = true;
+  size_t finishedBefore = 0;
+  auto render = [&](const RepeatTargets& targets) {
+    std::vector<RunTask> tasks;
+    size_t wanted = 0;
+    for (size_t si = 0; si < e.scenes.size(); ++si)
+      for (size_t ci = 0; ci < e.configurations.size(); ++ci)
+        for (int r = 0; r < targets[si][ci]; ++r) {
+          ++wanted;
+          if (!completed.count(runKey(e.scenes[si].name, e.configurations[ci].label, std::to_string(r))))
+            tasks.push_back({si, ci, r});
+        }
+    if (firstLook && tasks.size() < wanted)
+      std::cerr << "resume: " << wanted - tasks.size() << " of " << wanted << " runs already complete\n";
+    if (!firstLook && !tasks.empty())
+      std::cerr << "until decided: " << tasks.size() << " more run(s) for the configurations still undecided\n";
+    firstLook = false;
+    renderTasks(tasks);
+    finishedBefore += done;
+    if (finishedBefore > 0) discard.keep = true;
+  };
+  auto judge = [&](size_t si, const std::vector<int>& repeats) {
+    return judgeRunScene(readVerdictInputs(runDir.string()), si, repeats).judged;
+  };
+  auto extendReference = [&](size_t si) {
+    // Twice its chunks, as a sample budget: the cache (keyed without the
+    // budget) is extended, not replaced.
+    ExperimentScene s = e.scenes[si];
+    const Reference& r = references[si];
+    s.reference.spp = 2 * std::max<uint64_t>(r.chunks, 1) * r.chunkSpp;
+    s.reference.seconds = 0, s.reference.noiseFloor = 0;
+    std::cerr << "until decided: " << s.name << ": the reference's noise keeps a pair undecided; extending it to "
+              << s.reference.spp << " spp\n";
+    references[si] = obtain(si, s);
+    recordReference(si);
+    writeMeta(meta, e, runDir.string(), false);
+    for (auto it = sentReference.begin(); it != sentReference.end();)
+      it = it->second == si ? sentReference.erase(it) : std::next(it);
+  };
+  RepeatTargets targets = runLooks(e.repeatPlan, e.scenes.size(), e.configurations.size(), render, judge,
+                                   extendReference);
   discard.keep = true;
   // From here to the report is rank 0's alone, whatever the number of ranks
   // (the README's MPI overhead figures).
   auto lastRunEnd = Clock::now();
+  if (farm && finishedBefore > 0)
+    std::fprintf(stderr, "rank 0: %.3f s for %zu runs' results (%.1f ms each: decoding, writing images and rows)\n",
+                 handlingSeconds, finishedBefore, 1000 * handlingSeconds / double(finishedBefore));
 
-  if (e.repeats > 1) writeDecomposition(e, runDir, references, referenceVariances);
-  finishMeta(meta, e, runDir.string());
+  if (e.repeats > 1) writeDecomposition(e, runDir, references, targets);
+  // The verdict (verdict/run_folder.h) from the run folder as written.
+  {
+    VerdictInputs inputs = readVerdictInputs(runDir.string());
+    std::vector<SceneJudgement> judged;
+    for (size_t si = 0; si < e.scenes.size(); ++si) judged.push_back(judgeRunScene(inputs, si, targets[si]));
+    writeVerdictFiles(inputs, judged);
+    std::cerr << verdictSummary(inputs, judged);
+  }
+  writeMeta(meta, e, runDir.string(), true);
   std::cerr << "log: " << (runDir / "log.csv").string() << "\n";
   if (o.report) {
     std::string problem = runReportScript(reportInterpreter(o.python), runDir.string(), o.mixedMachines);
@@ -406,7 +468,7 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
   std::optional<CheckedExperiment> checked;
   std::optional<RunEnvironment> env;
   std::map<size_t, SceneFile> referenceScenes;
-  std::map<size_t, Image> references;
+  std::map<size_t, Image> references, referenceVariances;
   const int threads = workerThreads(o.threads, farm.cluster());
   std::string identity;  // jobIdentity, as this rank reads the files
   const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
@@ -445,12 +507,12 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
     t.scene = si;
     t.config = r.u64();
     t.repeat = int(r.u64());
-    if (r.u64()) references[si] = r.image();
+    if (r.u64()) references[si] = r.image(), referenceVariances[si] = r.image();
     const Configuration& c = e->configurations.at(t.config);
     std::vector<std::vector<std::string>> rows;
     arena.execute([&] {
       RunOutcome outcome = performRun(
-          *env, t, references.at(si), [&](std::vector<std::string>&& row) { rows.push_back(std::move(row)); },
+          *env, t, references.at(si), referenceVariances.at(si), [&](std::vector<std::string>&& row) { rows.push_back(std::move(row)); },
           [&](const RunProgress& p) {
             std::fprintf(stderr, "%s%s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s\n",
                          me.c_str(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1, p.snapshot,

@@ -111,6 +111,16 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   runCmd->add_flag("--mixed-machines", run.mixedMachines, "Let the report compare runs timed on different kinds of machines (CPU model or threads; an MPI sweep over a mixed cluster)");
   runCmd->add_option("--python", run.python, "Interpreter for the report (default: $LIGHTBENCH_PYTHON, else /usr/bin/python3); needs matplotlib");
 
+  VerdictArgs verdict;
+  CLI::App* verdictCmd = app.add_subcommand("verdict", "Judge a finished run folder again (rank groups, intervals, speed-ups), with other settings if given, and rewrite its report.");
+  verdictCmd->add_option("run", verdict.run, "A run folder, results/NAME/RUN-ID")->required();
+  verdictCmd->add_option("--rank-by", verdict.rankBy, "Rank by this metric: rmse, relmse, relmse_trimmed, rmse_crop, relmse_crop");
+  verdictCmd->add_option("--baseline", verdict.baseline, "The label speed-ups are measured against");
+  verdictCmd->add_option("--confidence", verdict.confidence, "Family-wise confidence of the rank groups and of the intervals (default: the run's)")
+      ->check(CLI::Range(0.5, 0.9999));
+  verdictCmd->add_flag("--no-report", verdict.noReport, "Only the verdict files, no report");
+  verdictCmd->add_option("--python", verdict.python, "Interpreter for the report (default: $LIGHTBENCH_PYTHON, else /usr/bin/python3)");
+
   std::string integratorName;
   bool markdown = false;
   CLI::App* integrators = app.add_subcommand("integrators", "List the integrators, or one integrator's keys with type, default, range and meaning.");
@@ -154,6 +164,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
     });
   }
   if (app.got_subcommand("run")) return runExperimentCommand(run);
+  if (app.got_subcommand("verdict")) return verdictCommand(verdict);
   if (app.got_subcommand("completion")) {
     std::cout << bashCompletion(app);
     return 0;

@@ -82,6 +82,17 @@ struct RunArgs {
   Farm* farm = nullptr;  // under MPI with more than one rank
 };
 int runExperimentCommand(const RunArgs& args);
+
+// `lightbench verdict RUN`: the run folder's verdict files again
+// (experiments/verdict/run_folder.h), with other settings if given, and its report.
+struct VerdictArgs {
+  std::string run;
+  std::string rankBy, baseline;  // empty: as the run's meta.json says
+  double confidence = 0;         // 0: as meta.json says
+  bool noReport = false;
+  std::string python;
+};
+int verdictCommand(const VerdictArgs& args);
 int serveExperimentCommand(const RunArgs& args);  // a worker rank's side
 // `farm`: this process is one of several MPI ranks (experiments/cli/main.cpp).
 int lightbenchMain(int argc, char** argv, Farm* farm = nullptr);

@@ -4,14 +4,16 @@ viewer's script and styles are inlined: the file stands alone, offline.
 experiments/report.py assembles them; tests/experiments/runner_test.cpp and
 tests/python/test_report.py read the result (the number of <img src=' tags:
 three plots, and one more per parameter sweep only when the run has sweeps;
-the table's first two cells, the figcaptions, the "no verdict" wording), so
-change those with the tests.
+the table's first two cells, the figcaptions, the rank groups), so change
+those with the tests.
 """
 import html
 import json
+import math
 import os
 
 from images import data_uri, png_size
+from verdict import rank_text
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 esc = html.escape
@@ -73,9 +75,10 @@ def run_header(meta):
             f"{m.get('repeats', 1)} repeat(s), seeds {m.get('seeds', [])}; started {m.get('started', '')}"
             + (f", finished {m['finished']}." if m.get("finished") else " (not finished).")) + "</p>"
         "<p class='caption'>RMSE = sqrt(mean (x−r)²); relMSE = mean (x−r)²/(r²+ε) with ε = "
-        + esc(flow(m.get("relmse_epsilon", ""))) + "; MAPE = 100·mean |x−r|/(|r|+ε); variance = the film's mean "
-        "per-pixel variance of the mean; efficiency = 1/(MSE·time). Means over RGB and pixels; final values are "
-        "means over the repeats, ± their sample standard deviation. Times include preprocessing.</p>")
+        + esc(flow(m.get("relmse_epsilon", ""))) + "; relMSE trimmed: relMSE without the pixels of largest error; "
+        "MAPE = 100·mean |x−r|/(|r|+ε); variance = the film's mean per-pixel variance of the mean; efficiency = "
+        "1/(error·time). Means over RGB and pixels; final values are means over the repeats, corrected for the "
+        "reference's noise, with confidence intervals. Times include preprocessing.</p>")
 
 
 def colour_bar():
@@ -92,7 +95,7 @@ def _display_width(native, target, cap):
     return min(cap, native * max(1, round(target / native))) if native else target
 
 
-def image_grid(run_dir, scene, labels, slugs, table, colour, scene_meta):
+def image_grid(run_dir, scene, labels, slugs, table, colour, scene_meta, verdict=None):
     """One row per configuration (the reference first): final image, error
     image, crop, crop's error; fixed column widths. None without images."""
     ref_png = os.path.join(run_dir, f"{scene}__reference.png")
@@ -141,7 +144,9 @@ def image_grid(run_dir, scene, labels, slugs, table, colour, scene_meta):
             f"<div class='rowlabel'><span class='swatch{'' if t['unbiased'] else ' dashed'}' "
             f"style='background-color:{colour[label]}'></span><b>{esc(label)}</b><br>"
             f"<span class='sub'>{esc(t['integrator'])}, {kind}</span><br>"
-            f"<span class='num'>RMSE {t['rmse']:.3g} ± {t['rmse_sd']:.1g}<br>relMSE {t['relmse']:.3g}</span><br>"
+            + (f"<span class='num'>rank {esc(rank_text(verdict.row(label)))}: {esc(metric_name(verdict.metric))} "
+               f"{_num(verdict.row(label)['value'])}</span><br>" if verdict and verdict.row(label) else
+               f"<span class='num'>RMSE {t['rmse']:.3g} (raw)<br>relMSE {t['relmse']:.3g}</span><br>") +
             f"<span class='sub'>{t['spp']:.0f} spp, {t['time']:.3g} s</span></div>")
         out.append(cell(s + ".png", label) + cell(s + "_error.png", label + " — error"))
         if crop:
@@ -183,44 +188,108 @@ def plot_figure(path, caption):
     return f"<figure class='plot'><img src='{data_uri(path)}' alt=''><figcaption>{caption}</figcaption></figure>"
 
 
-def ranking_table(table, rank, chosen, crop):
-    """The final-snapshot table, best RMSE first. Rows begin with the rank (or
-    the no-verdict note) and the label, in plain cells."""
-    columns = [("relmse", "relMSE (±&nbsp;sd)", None), ("mape", "MAPE %", "{:.3g}"),
-               ("variance", "variance", "{:.3g}")]
-    columns = [c for c in columns if c[0] in chosen]
-    crop_cols = [c for c in (("rmse_crop", "crop RMSE"), ("relmse_crop", "crop relMSE"), ("mape_crop", "crop MAPE %"))
-                 if crop and (c[0] == "rmse_crop" or c[0].replace("_crop", "") in chosen)]
+def _num(v):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "—"
+    if math.isinf(v):
+        return "∞"
+    return f"{v:.3g}"
+
+
+def _interval(lo, hi):
+    return f"<span class='ci'>[{_num(lo)}, {_num(hi)}]</span>"
+
+
+def ranking_table(table, verdict, chosen, crop, meta=None):
+    """The final-snapshot table in the verdict's order (best first). Rows
+    begin with the rank group and the label, in plain cells. Without verdict
+    files: sorted by the raw final RMSE, no ranks."""
+    metric = verdict.metric if verdict else "rmse"
+    others = [m for m in ("rmse", "relmse", "relmse_trimmed") if m != metric and m in chosen]
+    crop_metrics = [m for m in ("rmse_crop", "relmse_crop") if crop and m != metric]
+    raw_cols = [c for c in (("mape", "MAPE %"), ("variance", "variance")) if c[0] in chosen]
     over = any(t["over_budget"] > 0.01 * t["time"] for t in table.values())
-    out = ["<div class='scroll'><table class='stats ranking'><tr><th>rank</th><th>configuration</th>"
-           "<th>integrator</th><th>final RMSE (±&nbsp;sd)</th>"
-           + "".join(f"<th>{c[1]}</th>" for c in columns) + "".join(f"<th>{c[1]}</th>" for c in crop_cols)
-           + "<th>time s (pre&shy;process)</th><th>spp</th><th>slope vs time: RMSE, relMSE</th>"
-           "<th>time to best's final RMSE</th><th>efficiency vs best</th><th>NaN/ Inf</th>"
-           + ("<th>over budget s</th>" if over else "") + "</tr>"]
-
-    def fmt(c, t):
-        if c[0] == "relmse":
-            return f"{t['relmse']:.3g} ± {t['relmse_sd']:.2g}"
-        return c[2].format(t[c[0]])
-
+    baseline = verdict.rows[0]["baseline"] if verdict and verdict.rows else None
+    head = (f"<th>rank</th><th>configuration</th><th>integrator</th><th>{esc(metric_name(metric))} "
+            "[interval]</th><th>vs next: Holm p</th>"
+            + "".join(f"<th>{esc(metric_name(m))}</th>" for m in others + crop_metrics)
+            + "".join(f"<th>{c[1]} (raw)</th>" for c in raw_cols)
+            + "<th>time s (pre&shy;process)</th><th>spp</th><th>slope vs time: RMSE, relMSE</th>"
+            + (f"<th>time to {esc(baseline)}'s error, s</th><th>efficiency</th><th>speed-up over {esc(baseline)}</th>"
+               if verdict else "<th>efficiency 1/(MSE·t)</th>")
+            + "<th>NaN/ Inf</th>" + ("<th>over budget s</th>" if over else ""))
+    out = [f"<div class='scroll'><table class='stats ranking'><tr>{head}</tr>"]
+    order = [r["label"] for r in verdict.rows if r["label"] in table] if verdict else sorted(
+        table, key=lambda l: table[l]["rmse"])
     no_slope = {"biased/consistent": "b"}
-
-    for label, t in sorted(table.items(), key=lambda kv: kv[1]["rmse"]):
-        reach = f"{t['time_to_best']:.3g} s" if t["time_to_best"] is not None else "—"
+    for label in order:
+        t = table[label]
         slopes = (f"—<sup>{no_slope.get(t['no_slope'], 'p')}</sup>" if t["no_slope"] else
                   f"{t['slope_rmse']:+.2f}, {t['slope_relmse']:+.2f}")
-        crop_cells = "".join(f"<td>{t[c[0]]:.3g}</td>" if t[c[0]] is not None else "<td>–</td>" for c in crop_cols)
-        out.append(
-            f"<tr><td>{rank[label] if label in rank else 'no verdict (reference too noisy)'}</td>"
-            f"<td>{esc(label)}</td><td>{esc(t['integrator']).replace('_', '_&#8203;')}</td>"
-            f"<td>{t['rmse']:.3g} ± {t['rmse_sd']:.2g}</td>"
-            + "".join(f"<td>{fmt(c, t)}</td>" for c in columns) + crop_cells
-            + f"<td>{t['time']:.3g} ({t['preprocess']:.2g})</td><td>{t['spp']:.0f}</td><td>{slopes}</td>"
-            f"<td>{reach}</td><td>{t['relative_efficiency']:.3g}</td><td>{t['nonfinite']}</td>"
-            + (f"<td>{t['over_budget']:.3g}</td>" if over else "") + "</tr>")
+        if verdict:
+            r = verdict.row(label)
+            pair = verdict.next_pair(label)
+            nxt = (f"{_num(pair['p_holm'])}{'' if pair['decided'] else ' (tied)'}" if pair else "")
+            cells = (f"<td>{esc(rank_text(r))}</td><td>{esc(label)}</td>"
+                     f"<td>{esc(t['integrator']).replace('_', '_&#8203;')}</td>"
+                     f"<td>{_num(r['value'])} {_interval(r['ci_low'], r['ci_high'])}</td><td>{nxt}</td>")
+            for m in others + crop_metrics:
+                e = verdict.metrics.get((label, m))
+                cells += f"<td>{_num(e['value'])} {_interval(e['ci_low'], e['ci_high'])}</td>" if e else "<td>–</td>"
+        else:
+            cells = (f"<td>–</td><td>{esc(label)}</td><td>{esc(t['integrator']).replace('_', '_&#8203;')}</td>"
+                     f"<td>{_num(t['rmse'])} (raw)</td><td></td>")
+            for m in others + crop_metrics:
+                v = t.get(m)
+                cells += f"<td>{_num(v)} (raw)</td>" if v is not None else "<td>–</td>"
+        cells += "".join(f"<td>{_num(t[c[0]])}</td>" for c in raw_cols)
+        cells += f"<td>{t['time']:.3g} ({t['preprocess']:.2g})</td><td>{t['spp']:.0f}</td><td>{slopes}</td>"
+        if verdict:
+            reach = r["time_to_target_s"]
+            reach_text = "—" if math.isnan(reach) else _num(reach)
+            if not math.isnan(reach) and not (math.isnan(r["time_to_target_low_s"]) and math.isnan(
+                    r["time_to_target_high_s"])):
+                high = r["time_to_target_high_s"]
+                reach_text += " " + _interval(r["time_to_target_low_s"], high) if not math.isnan(high) else (
+                    f" <span class='ci'>[{_num(r['time_to_target_low_s'])}, beyond]</span>")
+            cells += (f"<td>{reach_text}</td><td>{_num(r['efficiency'])} "
+                      f"{_interval(r['efficiency_low'], r['efficiency_high'])}</td>"
+                      f"<td>{_num(r['speedup'])} {_interval(r['speedup_low'], r['speedup_high'])}</td>")
+        else:
+            cells += f"<td>{_num(t['efficiency'])}</td>"
+        cells += f"<td>{t['nonfinite']}</td>" + (f"<td>{t['over_budget']:.3g}</td>" if over else "")
+        out.append(f"<tr>{cells}</tr>")
     out.append("</table></div>")
     return "".join(out)
+
+
+def metric_name(m):
+    return {"rmse": "RMSE", "relmse": "relMSE", "relmse_trimmed": "relMSE trimmed", "rmse_crop": "crop RMSE",
+            "relmse_crop": "crop relMSE"}.get(m, m)
+
+
+def ranking_caption(verdict, meta):
+    if not verdict:
+        return "<p class='caption'>Raw final RMSE, mean over the repeats; no ranks without verdict files.</p>"
+    v = (meta or {}).get("verdict") or {}
+    confidence, looks = v.get("confidence", 0.95), v.get("looks", 1)
+    trim = v.get("trim_fraction", 0.001)
+    return (
+        f"<p class='caption'>Best first by <b>{esc(metric_name(verdict.metric))}</b>, corrected for the reference's "
+        "noise (each squared term less the reference's variance of the mean there: an unbiased estimate of the "
+        "error against the true image). Its interval: "
+        f"{100 * confidence:g} %" + (f" at the level split among {looks} looks" if looks > 1 else "")
+        + ", Student t over the repeats with the reference's own part (one repeat: 8×8-pixel tiles as batch "
+        "means), docs/testing.md. <b>Rank</b>: the ranks the pairwise tests allow (Welch's t on the repeats' "
+        "values with the reference's part of the difference; Holm's correction over every pair of the scene), "
+        "e.g. 2–3 when two configurations cannot be told apart. <b>vs next</b>: Holm's p-value of the "
+        "difference to the next row. Other metrics: corrected, with intervals; MAPE and the film's variance "
+        f"raw. relMSE trimmed rejects the {100 * trim:g} % of pixels with the largest error. Slope: of log "
+        "error on log time (see the plots); none for biased or consistent methods (b) or where preprocessing "
+        "takes over half the time (p). Time to the baseline's error: when the mean curve reaches the "
+        "baseline's final value (interval: when the band's edges do; —: not within the budget). Efficiency: "
+        "1/(error·time) with the error's interval; speed-up: efficiency over the baseline's, its interval "
+        "from both errors' intervals (conservative; ∞: the error may be 0).</p>")
 
 
 def decomposition_table(rows):

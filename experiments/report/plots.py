@@ -4,7 +4,10 @@ parameter sweep its final error against the swept value.
 
 One colour per configuration across every plot and the image grid; unbiased
 configurations are drawn solid, biased or consistent ones dashed. Each curve
-is the median over repeats; the shaded band is the min-max over repeats. The
+is the mean over repeats of the error corrected for the reference's noise,
+and its shaded band the confidence interval of that mean (the run's verdict
+files, experiments/verdict.py: Student t over the repeats, the runs' spread);
+a run without them shows the median of the raw errors, with no band. The
 members of a sweep share one colour family (a sequential colormap, lighter to
 darker in the experiment's order) and stand together in the legends under
 their group's name, so that a sweep reads as one thing among the others.
@@ -92,16 +95,35 @@ def log_axis_labels(axis):
     axis.set_minor_formatter(PlainLogFormatter(labelOnlyBase=False, minor_thresholds=(2, 0.5)))
 
 
-def draw_panel(ax, panel, labels, table, colour, floor=None):
+def draw_panel(ax, panel, labels, table, colour, floor=None, verdict=None):
     key_y, key_x, xlabel, title = PANELS[panel]
+    lowest = math.inf
+    bands = []
     for label, repeats in labels.items():
-        xs, med, mn, mx = band(repeats, key_x, key_y)
-        if not xs:
-            continue
         style = "-" if table[label]["unbiased"] else "--"
-        ax.plot(xs, med, style, color=colour[label], linewidth=1.4)
-        if len(repeats) > 1:
-            ax.fill_between(xs, mn, mx, color=colour[label], alpha=0.18, linewidth=0)
+        curve = verdict.curves.get((label, key_y, key_x)) if verdict else None
+        if curve:
+            xs, mean, low, high = curve
+            shown = [(x, m, lo, hi) for x, m, lo, hi in zip(xs, mean, low, high) if m > 0]
+            if not shown:
+                continue
+            xs, mean, low, high = (list(c) for c in zip(*shown))
+            ax.plot(xs, mean, style, color=colour[label], linewidth=1.4)
+            lowest = min(lowest, min(mean))
+            if len(repeats) > 1:
+                bands.append((xs, low, high, colour[label]))
+            continue
+        xs, med, _, _ = band(repeats, key_x, key_y)
+        if xs:
+            ax.plot(xs, med, style, color=colour[label], linewidth=1.4)
+            lowest = min([lowest] + [v for v in med if v > 0])
+    # A band whose lower edge is not positive (a corrected error that could
+    # be 0) reaches the bottom of the axis.
+    bottom = lowest / 4 if math.isfinite(lowest) else None
+    for xs, low, high, c in bands:
+        ax.fill_between(xs, [lo if lo > 0 else bottom for lo in low], high, color=c, alpha=0.18, linewidth=0)
+    if bottom:
+        ax.set_ylim(bottom=bottom)
     if floor and key_y == "rmse":
         ax.axhline(floor, color="0.4", linestyle=":", linewidth=1.2)
     ax.set_xscale("log")
@@ -114,7 +136,7 @@ def draw_panel(ax, panel, labels, table, colour, floor=None):
     ax.grid(True, which="both", alpha=0.25)
 
 
-def legend_blocks(labels, table, colour, floor, repeats, slope_keys, sweeps=None):
+def legend_blocks(labels, table, colour, floor, repeats, slope_keys, sweeps=None, confidence=None):
     """The legend as blocks of entries: an ordinary configuration is a block
     of one; a sweep is a block headed by its group's name (a header entry
     with no line, gid "sweep-group") with its members under it, named by
@@ -144,8 +166,9 @@ def legend_blocks(labels, table, colour, floor, repeats, slope_keys, sweeps=None
             header.set_gid("sweep-group")
             blocks.append([header] + [entry(l, member_name(l, group)) for l in members])
     notes = []
-    if repeats > 1:
-        notes.append(Patch(color="0.6", alpha=0.4, label=f"band: min–max over {repeats} repeats (line: median)"))
+    if repeats > 1 and confidence:
+        notes.append(Patch(color="0.6", alpha=0.4, label=f"band: {100 * confidence:g} % interval of the mean over "
+                           f"{repeats} repeats (line: the mean, corrected)"))
     notes.append(Line2D([], [], color="0.3", linestyle="--", label="dashed: biased or consistent method"))
     if floor:
         notes.append(Line2D([], [], color="0.4", linestyle=":", label=f"reference noise floor (RMSE {floor:.2g})"))
@@ -193,11 +216,12 @@ def save(fig, stem, svg=True):
     return stem + ".png"
 
 
-def figure(panels, labels, table, colour, floor, repeats, slope_keys, title, sweeps=None):
-    blocks = legend_blocks(labels, table, colour, floor, repeats, slope_keys, sweeps)
+def figure(panels, labels, table, colour, floor, repeats, slope_keys, title, sweeps=None, verdict=None,
+           confidence=None):
+    blocks = legend_blocks(labels, table, colour, floor, repeats, slope_keys, sweeps, confidence if verdict else None)
     if len(panels) == 1:  # a single panel (the files the README shows): its legend inside
         fig, ax = plt.subplots(figsize=(7, 4.5))
-        draw_panel(ax, panels[0], labels, table, colour, floor)
+        draw_panel(ax, panels[0], labels, table, colour, floor, verdict)
         ax.set_title(title)
         handles = [h for b in blocks for h in b]
         bold_headers(ax.legend(handles=handles, fontsize=7, loc="best", framealpha=0.85), handles)
@@ -210,7 +234,7 @@ def figure(panels, labels, table, colour, floor, repeats, slope_keys, title, swe
     height = 3.2 + legend_h
     fig, axes = plt.subplots(1, n, figsize=(4.2 * n + 0.4, height), squeeze=False)
     for ax, panel in zip(axes[0], panels):
-        draw_panel(ax, panel, labels, table, colour, floor)
+        draw_panel(ax, panel, labels, table, colour, floor, verdict)
     fig.suptitle(title, fontsize=11)
     bottom = legend_h / height
     fig.tight_layout(rect=(0, bottom, 1, 1))
@@ -220,13 +244,19 @@ def figure(panels, labels, table, colour, floor, repeats, slope_keys, title, swe
     return fig
 
 
-def sweep_points(members, labels):
-    """Per member: (values, mean, min, max, {repeat: final}) of the final RMSE
-    over its repeats."""
+def sweep_points(members, labels, verdict=None):
+    """Per member: (values, value, low, high, {repeat: final}) of the final
+    RMSE: the verdict's corrected value and interval when the run has them,
+    else the mean, min and max of the raw values over the repeats."""
     out = []
     for label, values in members:
         finals = {rep: rows[-1]["rmse"] for rep, rows in labels.get(label, {}).items() if rows}
-        if finals:
+        if not finals:
+            continue
+        m = verdict.metrics.get((label, "rmse")) if verdict else None
+        if m:
+            out.append((values, m["value"], m["ci_low"], m["ci_high"], finals))
+        else:
             v = list(finals.values())
             out.append((values, sum(v) / len(v), min(v), max(v), finals))
     return out
@@ -243,12 +273,14 @@ def value_text(v):
     return f"{v:g}" if isinstance(v, float) else str(v)
 
 
-def plot_sweep(ax, scene, group, members, labels, colour, cmap_name, floor=None):
+def plot_sweep(ax, scene, group, members, labels, colour, cmap_name, floor=None, verdict=None):
     """Final RMSE against the first swept key: one line, or with more keys one
     line per combination of the others (with two keys: per value of the
-    last). Error bars: min-max over the repeats. Log x where every value is
-    positive and they span over 10x; keys with text values are categories."""
-    points = sweep_points(members, labels)
+    last). Error bars: the verdict's confidence interval (corrected values),
+    or min-max over the repeats without verdict files. Log x where every
+    value is positive and they span over 10x; keys with text values are
+    categories."""
+    points = sweep_points(members, labels, verdict)
     ax.set_title(f"{scene}: sweep {group}")
     if not points:
         ax.text(0.5, 0.5, "no final snapshots", ha="center", va="center", transform=ax.transAxes)
@@ -308,10 +340,11 @@ def plot_sweep(ax, scene, group, members, labels, colour, cmap_name, floor=None)
                   title=", ".join(rest) if rest else None, title_fontsize=7, framealpha=0.85)
 
 
-def plot_scene(scene, labels, table, out_dir, floor=None, sweeps=None):
+def plot_scene(scene, labels, table, out_dir, floor=None, sweeps=None, verdict=None, confidence=None):
     """Writes the scene's plots; returns ({name: png path}, {label: colour})
     for the report. sweeps: runlog.sweep_members(); with sweeps, files has
-    "sweeps": {group: png path} (one small plot per sweep)."""
+    "sweeps": {group: png path} (one small plot per sweep). verdict: the
+    scene's verdict.SceneVerdict (its mean curves and intervals), or None."""
     sweeps = sweeps or {}
     group_of = {l: g for g, members in sweeps.items() for l, _ in members}
     colour = assign_colours(list(labels), group_of)
@@ -321,23 +354,39 @@ def plot_scene(scene, labels, table, out_dir, floor=None, sweeps=None):
     # Single panels under their own names (the README and scripts use them).
     for panel in ("rmse_vs_time", "relmse_vs_time", "rmse_vs_spp"):
         key = PANELS[panel][0]
-        fig = figure([panel], labels, table, colour, floor, repeats, [key], f"{scene}: {PANELS[panel][3]}", sweeps)
+        fig = figure([panel], labels, table, colour, floor, repeats, [key], f"{scene}: {PANELS[panel][3]}", sweeps,
+                     verdict, confidence)
         files[panel] = save(fig, stem(panel))
     fig = figure(["rmse_vs_time", "relmse_vs_time", "rmse_vs_spp"], labels, table, colour, floor, repeats,
-                 ["rmse", "relmse"], f"{scene}: full frame", sweeps)
+                 ["rmse", "relmse"], f"{scene}: full frame", sweeps, verdict, confidence)
     files["convergence"] = save(fig, stem("convergence"))
     if any(t["rmse_crop"] is not None for t in table.values()):
         fig = figure(["crop_rmse_vs_time", "crop_relmse_vs_time"], labels, table, colour, None, repeats,
-                     ["rmse_crop", "relmse_crop"], f"{scene}: crop", sweeps)
+                     ["rmse_crop", "relmse_crop"], f"{scene}: crop", sweeps, verdict, confidence)
         files["crop_convergence"] = save(fig, stem("crop_convergence"))
 
     fig, ax = plt.subplots(figsize=(7, 0.6 + 0.28 * len(labels)))
     names = list(labels)
-    ax.barh(names, [table[l]["efficiency"] for l in names], color=[colour[l] for l in names])
+    rows = {l: verdict.row(l) if verdict else None for l in names}
+    if verdict and all(rows.values()):
+        # 1 / (the ranked metric × time), with the interval the metric's gives.
+        values = [rows[l]["efficiency"] for l in names]
+        finite = [v for v in values if math.isfinite(v)]
+        cap = 10 * max(finite) if finite else 1
+        values = [v if math.isfinite(v) else cap for v in values]
+        lo = [max(0.0, v - rows[l]["efficiency_low"]) for v, l in zip(values, names)]
+        hi = [max(0.0, min(rows[l]["efficiency_high"], cap) - v) for v, l in zip(values, names)]
+        ax.barh(names, values, xerr=[lo, hi], color=[colour[l] for l in names], ecolor="0.25", capsize=2)
+        unit = "MSE" if verdict.metric.startswith("rmse") else "relMSE"
+        xlabel = (f"efficiency 1 / ({unit} × time), corrected, with its {100 * (confidence or 0.95):g} % interval  "
+                  "[higher is better]")
+    else:
+        ax.barh(names, [table[l]["efficiency"] for l in names], color=[colour[l] for l in names])
+        xlabel = "efficiency 1 / (MSE × time), mean over repeats  [higher is better]"
     ax.invert_yaxis()  # the grid's order, top to bottom
     ax.set_xscale("log")
     log_axis_labels(ax.xaxis)
-    ax.set_xlabel("efficiency 1 / (MSE × time), mean over repeats  [higher is better]")
+    ax.set_xlabel(xlabel)
     ax.set_title(f"{scene}: efficiency at the final snapshot")
     ax.grid(True, axis="x", which="both", alpha=0.25)
     fig.tight_layout()
@@ -346,7 +395,7 @@ def plot_scene(scene, labels, table, out_dir, floor=None, sweeps=None):
     maps = sweep_colormaps(sweeps)
     for group, members in sweeps.items():
         fig, ax = plt.subplots(figsize=(4.6, 3.3))
-        plot_sweep(ax, scene, group, members, labels, colour, maps[group], floor)
+        plot_sweep(ax, scene, group, members, labels, colour, maps[group], floor, verdict)
         fig.tight_layout()
         files.setdefault("sweeps", {})[group] = save(fig, stem("sweep-" + slug(group)))
     return files, colour

@@ -15,6 +15,27 @@ BIASED_INTEGRATORS = ("photon", "sppm", "irradiance_cache")
 
 # Crop metrics: absent (empty cells) when the scene has no crop.
 CROP_KEYS = ("rmse_crop", "relmse_crop", "mape_crop")
+# Columns of later logs (issue 32): the trimmed relMSE and the squared errors
+# corrected for the reference's noise; None in a log written before them.
+OPTIONAL_KEYS = ("relmse_trimmed", "mse_corrected", "relmse_corrected", "relmse_trimmed_corrected",
+                 "mse_crop_corrected", "relmse_crop_corrected")
+# A metric's curve as the plots and slopes read it: the corrected column
+# (for an RMSE, its square root) where the log has it, else the raw one.
+CORRECTED = {"rmse": ("mse_corrected", True), "relmse": ("relmse_corrected", False),
+             "rmse_crop": ("mse_crop_corrected", True), "relmse_crop": ("relmse_crop_corrected", False)}
+
+
+def corrected_value(row, key):
+    """The row's `key` metric corrected for the reference's noise (None where
+    it is not positive: a log scale cannot show it), or the raw value for a
+    log without the corrected columns."""
+    column, root = CORRECTED.get(key, (None, False))
+    if column is None or row.get(column) is None:
+        return row.get(key)
+    v = row[column]
+    if not v > 0:
+        return None
+    return math.sqrt(v) if root else v
 
 
 def read_log(path):
@@ -31,7 +52,7 @@ def read_log(path):
                 # Time past the budget (a preprocess or pass longer than the
                 # budget, issue 11); logs written before the column read 0.
                 r["over_budget_s"] = float(r.get("over_budget_s") or 0)
-                for k in CROP_KEYS:
+                for k in CROP_KEYS + OPTIONAL_KEYS:
                     r[k] = float(r[k]) if r.get(k) else None
                 rows.append(r)
             except (ValueError, KeyError, TypeError):
@@ -120,8 +141,8 @@ def interpolate_log(xs, ys, x):
 
 def band(repeats, key_x, key_y):
     """Median, min and max over repeats on a common grid of x (the range all
-    repeats cover). The band is the min-max envelope of the repeats, not a
-    confidence interval: with two repeats it is just their spread."""
+    repeats cover): the plots' fallback for a run without verdict files,
+    which hold the mean curves with their confidence intervals."""
     curves = [([r[key_x] for r in rows], [r[key_y] for r in rows])
               for rows in repeats.values() if rows and all(r[key_y] is not None for r in rows)]
     if not curves:
@@ -183,8 +204,9 @@ def mean_sd(values):
 
 
 def summary(labels, meta=None):
-    """Per label: final metrics (mean over repeats), slopes and time to reach
-    the best final RMSE; and the label with the lowest final median RMSE."""
+    """Per label: final raw metrics (mean over repeats), times, samples and
+    slopes. The verdict (rank groups, intervals, corrected values,
+    efficiency) is the run's verdict files' (experiments/verdict.py)."""
     table = {}
     for label, repeats in labels.items():
         finals = [rows[-1] for rows in repeats.values() if rows]
@@ -205,18 +227,10 @@ def summary(labels, meta=None):
         t["unbiased"] = unbiased(label, t["integrator"], meta)
         t["no_slope"] = no_slope_reason(t)
         for key in ("rmse", "relmse", "rmse_crop", "relmse_crop"):
-            pts = [(r["time_s"], r[key]) for rows in repeats.values() for r in rows if r[key] is not None]
+            # Corrected for the reference's noise: near its floor the raw
+            # error flattens, the corrected one keeps the estimator's slope.
+            pts = [(r["time_s"], corrected_value(r, key)) for rows in repeats.values() for r in rows]
+            pts = [(x, y) for x, y in pts if y is not None]
             t["slope_" + key] = None if t["no_slope"] else slope(pts)
         table[label] = t
-    # "Time to reach the best final error" compares like with like: every
-    # configuration's median-over-repeats curve against the lowest final
-    # median, so the best configuration reaches it at its own final time.
-    bands = {label: band(repeats, "time_s", "rmse") for label, repeats in labels.items()}
-    best_label = min(bands, key=lambda l: bands[l][1][-1])
-    target = bands[best_label][1][-1]
-    best_eff = max(t["efficiency"] for t in table.values()) or 1
-    for label in labels:
-        xs, med, _, _ = bands[label]
-        table[label]["time_to_best"] = next((x for x, y in zip(xs, med) if y <= target), None)
-        table[label]["relative_efficiency"] = table[label]["efficiency"] / best_eff
-    return table, best_label
+    return table

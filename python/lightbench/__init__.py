@@ -22,10 +22,10 @@ import numpy as np
 
 from . import _core
 from ._core import ConfigError  # noqa: F401  (re-exported)
-from .metrics import mape, relmse, rmse  # noqa: F401
+from .metrics import mape, relmse, relmse_trimmed, rmse  # noqa: F401
 from .runs import Run, load_run  # noqa: F401
 
-__all__ = ["render", "run_experiment", "load_run", "Run", "read_exr", "read_exr_layer", "read_exr_metadata", "write_exr", "rmse", "relmse", "mape",
+__all__ = ["render", "run_experiment", "load_run", "Run", "read_exr", "read_exr_layer", "read_exr_metadata", "write_exr", "rmse", "relmse", "relmse_trimmed", "mape",
            "integrators", "integrator_keys", "ConfigError", "RenderedImage", "__version__"]
 __version__ = _core.version()
 

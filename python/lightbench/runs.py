@@ -16,6 +16,14 @@ class Run:
     meta: dict                                     # meta.json
     images: dict = field(default_factory=dict)     # (scene, label) -> final image of repeat 0, (H, W, 3)
     references: dict = field(default_factory=dict)  # scene -> reference image
+    reference_variances: dict = field(default_factory=dict)  # scene -> its per-pixel variance of the mean
+    # The verdict (experiments/verdict/run_folder.h): verdict.csv, one row per
+    # scene and configuration (rank groups and intervals of the ranked
+    # metric); verdict_pairs.csv, every pair's test; verdict_metrics.csv,
+    # every metric's corrected value and interval. None without them.
+    verdict: pd.DataFrame = None
+    verdict_pairs: pd.DataFrame = None
+    verdict_metrics: pd.DataFrame = None
 
     def final(self):
         """The log's final snapshots (one row per scene, configuration and repeat)."""
@@ -35,10 +43,22 @@ def load_run(folder):
         with open(meta_path) as f:
             meta = json.load(f)
     run = Run(folder, log, meta)
+    for name in ("verdict", "verdict_pairs", "verdict_metrics"):
+        path = os.path.join(folder, name + ".csv")
+        if os.path.exists(path):
+            # keep_default_na=False: a rank group "1-2" or an empty reason stays text.
+            table = pd.read_csv(path, keep_default_na=False, na_values=[""])
+            for column in ("decided", "adjacent"):
+                if column in table:
+                    table[column] = table[column].astype(str) == "True"
+            setattr(run, name, table)
     for scene in meta.get("scenes", []):
         ref = os.path.join(folder, scene.get("reference_exr") or scene["name"] + "__reference.exr")
         if os.path.exists(ref):
             run.references[scene["name"]] = read_exr(ref)
+        variance = os.path.join(folder, scene.get("reference_variance_exr") or scene["name"] + "__reference_variance.exr")
+        if os.path.exists(variance):
+            run.reference_variances[scene["name"]] = read_exr(variance)
     for (scene, label) in log[["scene", "label"]].drop_duplicates().itertuples(index=False):
         path = os.path.join(folder, f"{scene}__{slug(label)}.exr")
         if os.path.exists(path):

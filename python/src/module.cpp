@@ -4,6 +4,7 @@
 // Python equals the CLI's bit for bit at the same seed. The Pythonic surface
 // (keyword arguments, dicts, DataFrames) is in python/lightbench/*.py.
 #include <pybind11/numpy.h>
+#include <optional>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <algorithm>
@@ -96,9 +97,17 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "metrics",
-      [](const FloatArray& image, const FloatArray& reference, float epsilon, std::vector<int> crop) {
+      [](const FloatArray& image, const FloatArray& reference, float epsilon, std::vector<int> crop,
+         std::optional<FloatArray> referenceVariance, float trimFraction) {
         Image x = toImage(image, "image"), r = toImage(reference, "reference");
         if (x.width != r.width || x.height != r.height) throw py::value_error("image and reference differ in size");
+        Image v;
+        if (referenceVariance) {
+          v = toImage(*referenceVariance, "reference_variance");
+          if (v.width != r.width || v.height != r.height)
+            throw py::value_error("reference_variance and reference differ in size");
+        }
+        if (!(trimFraction >= 0 && trimFraction < 0.5f)) throw py::value_error("fraction: must be in [0, 0.5)");
         Crop c;
         if (crop.size() == 4) c = {crop[0], crop[1], crop[2], crop[3]};
         else if (!crop.empty()) throw py::value_error("crop: expected (x0, y0, x1, y1)");
@@ -107,10 +116,13 @@ PYBIND11_MODULE(_core, m) {
           throw py::value_error("crop: need 0 <= x0 < x1 <= width and 0 <= y0 < y1 <= height");
         MetricSettings settings;
         settings.relEpsilon = epsilon;
-        ErrorMetrics e = computeMetrics(x, r, settings, c);
-        return py::make_tuple(e.rmse, e.relMse, e.mape);
+        settings.trimFraction = trimFraction;
+        ErrorMetrics e = computeMetrics(x, r, settings, c, v);
+        return py::make_tuple(e.rmse, e.relMse, e.mape, e.relMseTrimmed, e.mseCorrected, e.relMseCorrected,
+                              e.relMseTrimmedCorrected);
       },
-      py::arg("image"), py::arg("reference"), py::arg("epsilon"), py::arg("crop"));
+      py::arg("image"), py::arg("reference"), py::arg("epsilon"), py::arg("crop"),
+      py::arg("reference_variance") = std::nullopt, py::arg("trim_fraction") = 1e-3f);
 
   m.def(
       "run_experiment",

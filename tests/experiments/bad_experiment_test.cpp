@@ -258,6 +258,33 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is out of range");
 }
 
+// The verdict's keys (issue 32): each refusal names its line and key, and
+// leaves nothing behind.
+TEST_F(BadExperiment, VerdictKeysAreChecked) {
+  struct Case {
+    std::string extra, expected;
+  };
+  for (const Case& c : {
+           Case{"rank_by: mape\n", "exp.yaml:11: 'rank_by': unknown metric 'mape' (a squared error: rmse, relmse"},
+           Case{"rank_by: relmse_crop\nbaseline: c\n", "exp.yaml:12: 'baseline': no configuration is labelled 'c' (labels: 'a', 'b')"},
+           Case{"confidence: 1.5\n", "exp.yaml:11: 'confidence': must be in [0.5, 0.9999]"},
+           Case{"trim_fraction: 0.5\n", "exp.yaml:11: 'trim_fraction': must be in [0, 0.5)"},
+           Case{"outlier_percentile: 99.9\n", "exp.yaml:11: 'outlier_percentile': was replaced by the relmse_trimmed metric"},
+           Case{"repeats: {max: 8}\n", "'repeats.until_decided': a mapping asks for repeats until decided"},
+           Case{"repeats: {until_decided: true, min: 1}\n", "'repeats.min': must be at least 2"},
+           Case{"repeats: {until_decided: true, min: 4, max: 3}\n", "'repeats.max': must be in [min, 1000]"},
+           Case{"repeats: {until_decided: true, maximum: 3}\n", "'repeats.maximum': unknown key"},
+       }) {
+    writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", c.extra);
+    expectRefused(c.expected);
+  }
+  // A crop metric needs a crop in every scene.
+  std::string text = readFile(writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "rank_by: rmse_crop\n"));
+  text.replace(text.find("    crop: [0, 0, 8, 8]\n"), 22, "");
+  std::ofstream(dir_ / "exp.yaml") << text;
+  expectRefused("'rank_by': 'rmse_crop' needs a crop in every scene; scene 'scene' has none");
+}
+
 // A consistent integrator's bias would be in the reference (issue 13): it is
 // refused unless the experiment says so; an unbiased VCM mode is fine.
 TEST_F(BadExperiment, ABiasedReferenceIntegratorNeedsToBeAllowed) {

@@ -145,3 +145,18 @@ def test_load_run_reads_the_log_and_images(tmp_path, small_scene):
         assert lightbench.rmse(run.images[(scene, label)], ref) == pytest.approx(row["rmse"], rel=1e-6)
         assert lightbench.rmse(run.images[(scene, label)], ref, crop=(4, 4, 12, 12)) == pytest.approx(
             row["rmse_crop"], rel=1e-6)
+        # And the trimmed and corrected metrics (the reference's variance from the run folder).
+        variance = run.reference_variances[scene]
+        assert lightbench.relmse_trimmed(run.images[(scene, label)], ref) == pytest.approx(row["relmse_trimmed"], rel=1e-6)
+        assert lightbench.relmse(run.images[(scene, label)], ref, reference_variance=variance) == pytest.approx(
+            row["relmse_corrected"], rel=1e-6)
+        assert lightbench.rmse(run.images[(scene, label)], ref, reference_variance=variance) == pytest.approx(
+            max(0, row["mse_corrected"]) ** 0.5, rel=1e-6)
+    # The verdict as a DataFrame: one row per scene and configuration.
+    assert list(run.verdict.columns[:8]) == ["scene", "label", "metric", "value", "ci_low", "ci_high", "rank_group",
+                                             "decided"]
+    assert sorted(run.verdict["label"]) == ["PT", "light tracing"] and set(run.verdict["metric"]) == {"relmse"}
+    assert run.verdict["decided"].dtype == bool and run.verdict["rank_group"].dtype == object
+    assert (run.verdict["ci_low"] <= run.verdict["value"]).all() and (run.verdict["value"] <= run.verdict["ci_high"]).all()
+    assert len(run.verdict_pairs) == 1 and run.verdict_pairs["adjacent"].all()
+    assert {"rmse", "relmse", "relmse_trimmed", "rmse_crop"} <= set(run.verdict_metrics["metric"])

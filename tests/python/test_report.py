@@ -38,17 +38,19 @@ W, H = 24, 16
 CROP = [4, 4, 12, 10]
 # Two configurations, one unbiased and one biased, so one slope is fitted and one is not.
 CONFIGS = [("alpha (path)", "path"), ("beta: photons", "photon")]
-FLOOR = 0.01  # beta's final RMSE is put within 3x of it
+FLOOR = 0.01  # the reference's noise floor
 
 
 def slug(s):
     return "".join(c.lower() if c.isalnum() else "-" for c in s)
 
 
-def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False, configs=CONFIGS, sweeps=None):
+def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False, configs=CONFIGS, sweeps=None, with_verdict=True,
+              tied=False):
     """structured: meta.json as the nlohmann-json writer has it (mappings
     where the older writer wrote YAML flow text). sweeps: {label: (group,
-    values)} for the configurations that are members of a sweep."""
+    values)} for the configurations that are members of a sweep.
+    with_verdict: the verdict files too (write_verdict; tied as it takes)."""
     os.makedirs(run_dir)
     rng = np.random.default_rng(1)
     with open(os.path.join(run_dir, "log.csv"), "w", newline="") as f:
@@ -85,6 +87,8 @@ def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False, configs=CO
         "finished": "later", "machine": {"cpu": "test"}, "threads_per_run": 1, "jobs": 1,
         "budget": {"seconds": 2, "spp": 0}, "repeats": 2, "seeds": [1, 7920],
         "metrics": ["rmse", "relmse", "mape", "variance"], "relmse_epsilon": 0.01,
+        "verdict": {"rank_by": "relmse", "confidence": 0.95, "baseline": configs[0][0], "looks": 1,
+                    "trim_fraction": 0.001},
         "scenes": [{"name": SCENE, "reference": "", "reference_integrator": "path {} 64 spp",
                     "reference_used": "", "reference_rmse_floor": floor, "crop": CROP}],
         "configurations": [{"label": l, "integrator": i, "resolved_parameters": "{}"} for l, i in configs],
@@ -101,12 +105,65 @@ def write_run(run_dir, with_meta=True, floor=FLOOR, structured=False, configs=CO
             c["unbiased"] = c["integrator"] == "path"
     with open(os.path.join(run_dir, "meta.json"), "w") as f:
         json.dump(meta, f)
+    if with_verdict:
+        write_verdict(run_dir, configs, tied)
     with open(os.path.join(run_dir, "decomposition.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow("scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,"
                    "variance_high,reference_variance".split(","))
         for label, integrator in configs:
             w.writerow([SCENE, label, integrator, 2, 1e-3, 1e-4, 0, 2e-4, 9e-4, 8e-4, 1e-3, 1e-5])
+
+
+VERDICT_HEADER = ("scene,label,metric,value,ci_low,ci_high,rank_group,decided,repeats,raw_value,time_s,efficiency,"
+                  "efficiency_low,efficiency_high,speedup,speedup_low,speedup_high,time_to_target_s,"
+                  "time_to_target_low_s,time_to_target_high_s,baseline")
+PAIRS_HEADER = ("scene,metric,better,worse,difference,difference_low,difference_high,p,p_holm,decided,adjacent,"
+                "reference_share,repeats_better,repeats_worse,reason")
+REASON = "the runs' spread (2 and 2 repeats; repeats: {until_decided: true} adds repeats until decided)"
+
+
+def write_verdict(run_dir, configs=CONFIGS, tied=False):
+    """Verdict files as experiments/verdict/run_folder.cpp writes them: the
+    configurations ranked in order, each 20 % worse than the one before;
+    tied: the first two in one rank group, their pair undecided."""
+    labels = [l for l, _ in configs]
+    n = len(labels)
+    with open(os.path.join(run_dir, "verdict.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(VERDICT_HEADER.split(","))
+        for i, label in enumerate(labels):
+            group = "1-2" if tied and i < 2 else str(i + 1)
+            v = 0.01 * 1.2 ** i
+            w.writerow([SCENE, label, "relmse", v, 0.9 * v, 1.1 * v, group, "false" if tied and i < 2 else "true", 2,
+                        1.05 * v, 2.0, 1 / (2 * v), 1 / (2.2 * v), 1 / (1.8 * v), 0.01 / v, 0.8 * 0.01 / v,
+                        1.2 * 0.01 / v, 2.0 * v / 0.01, 1.5 * v / 0.01, "", labels[0]])
+    with open(os.path.join(run_dir, "verdict_pairs.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(PAIRS_HEADER.split(","))
+        for i in range(n):
+            for j in range(i + 1, n):
+                undecided = tied and i == 0 and j == 1
+                w.writerow([SCENE, "relmse", labels[i], labels[j], -0.002, -0.003, -0.001, 0.3 if undecided else 1e-4,
+                            0.3 if undecided else 1e-3, "false" if undecided else "true",
+                            "true" if j == i + 1 else "false", 0.1, 2, 2, REASON if undecided else ""])
+    with open(os.path.join(run_dir, "verdict_metrics.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow("scene,label,metric,value,ci_low,ci_high,raw_value,repeats".split(","))
+        for i, label in enumerate(labels):
+            for m in ("rmse", "relmse", "relmse_trimmed", "rmse_crop", "relmse_crop"):
+                v = 0.1 * 1.1 ** i
+                w.writerow([SCENE, label, m, v, 0.9 * v, 1.1 * v, v, 2])
+    with open(os.path.join(run_dir, "verdict_curves.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow("scene,label,metric,x,x_value,mean,low,high".split(","))
+        for i, label in enumerate(labels):
+            for m in ("rmse", "relmse", "rmse_crop", "relmse_crop"):
+                for x, xs in (("time_s", [0.25, 0.5, 1, 2]), ("spp", [8, 16, 32, 64])):
+                    for k, at in enumerate(xs):
+                        v = 0.1 * 1.1 ** i / 2 ** (k / 2)
+                        # The first point's band reaches below zero: drawn to the axis' bottom.
+                        w.writerow([SCENE, label, m, x, at, v, -v if k == 0 else 0.8 * v, 1.2 * v])
 
 
 def run_report(arg):
@@ -162,24 +219,55 @@ def test_viewer_data_decode_to_the_images(report):
     assert "exposure is limited to the display range" in text
 
 
-def test_no_slope_for_biased_and_noise_floor_warning(report):
+def test_rank_groups_intervals_and_the_ranked_metric(report):
     _, text = report
-    beta = CONFIGS[1][0]
-    row = re.search(rf"<tr><td>([^<]*)</td><td>{re.escape(beta)}</td>.*?</tr>", text).group(0)
-    assert "—<sup>b</sup>" in row and "no verdict (reference too noisy)" in row
-    assert "Reference too noisy for: " + beta in text
-    assert "median over the 2 repeats; shaded bands: min–max over the repeats" in text
-    alpha = re.search(rf"<tr><td>1</td><td>{re.escape(CONFIGS[0][0])}</td>.*?</tr>", text).group(0)
-    assert "-0.50" in alpha  # 0.1 t^-0.5, with a constant factor between repeats
+    alpha, beta = CONFIGS[0][0], CONFIGS[1][0]
+    assert "Ranked by <b>relMSE</b>, corrected" in text and "Best: <b>" + alpha + "</b>, rank 1 decided." in text
+    row = re.search(rf"<tr><td>1</td><td>{re.escape(alpha)}</td>.*?</tr>", text).group(0)
+    assert "0.01 <span class='ci'>[0.009, 0.011]</span>" in row  # value [interval], verdict.csv's
+    assert "-0.50" in row  # 0.1 t^-0.5 (the raw log: it has no corrected columns)
+    row = re.search(rf"<tr><td>2</td><td>{re.escape(beta)}</td>.*?</tr>", text).group(0)
+    assert "—<sup>b</sup>" in row
+    assert "no verdict" not in text and "Undecided neighbours" not in text
+    assert "95 % confidence interval (Student t over the repeats" in text
+    assert f"speed-up over {alpha}" in text
 
 
-def test_no_floor_ranks_all_and_structured_meta(tmp_path):
+def test_tied_neighbours_are_listed_with_why(tmp_path):
+    run_dir = str(tmp_path / "tied")
+    write_run(run_dir, tied=True)
+    run_report(run_dir)
+    with open(os.path.join(run_dir, "report.html"), encoding="utf-8") as f:
+        text = f.read()
+    alpha, beta = CONFIGS[0][0], CONFIGS[1][0]
+    assert f"<tr><td>1–2 (tied)</td><td>{alpha}</td>" in text and f"<tr><td>1–2 (tied)</td><td>{beta}</td>" in text
+    assert "in rank group 1–2 (tied) with " + beta in text
+    assert "<b>Undecided neighbours</b>" in text and html_escape(REASON) in text
+
+
+def html_escape(s):
+    import html
+    return html.escape(s)
+
+
+def test_without_verdict_files_nothing_is_ranked(tmp_path):
+    run_dir = str(tmp_path / "no verdict")
+    write_run(run_dir, with_verdict=False)
+    run_report(run_dir)
+    with open(os.path.join(run_dir, "report.html"), encoding="utf-8") as f:
+        text = f.read()
+    assert "No verdict files in this run folder" in text
+    assert re.search(r"<tr><td>–</td><td>[^<]*</td>", text)
+    assert "<tr><td>1</td>" not in text
+
+
+def test_no_floor_and_structured_meta(tmp_path):
     run_dir = str(tmp_path / "no floor")
     write_run(run_dir, floor=None, structured=True)
     run_report(run_dir)
     with open(os.path.join(run_dir, "report.html"), encoding="utf-8") as f:
         text = f.read()
-    assert "no verdict" not in text and "Reference too noisy" not in text
+    assert "Its variance is unknown" in text
     assert "<tr><td>1</td>" in text and "<tr><td>2</td>" in text
     assert "path {mis: power} 64 spp" in text
     assert "—<sup>b</sup>" in text
