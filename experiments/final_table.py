@@ -23,8 +23,8 @@ import os
 import sys
 from collections import OrderedDict
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from verdict import METRIC_NAMES, rank_text, read_verdict  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "report"))
+from verdict_files import METRIC_NAMES, rank_text, read_verdict  # noqa: E402
 
 
 def g(v, digits=3):

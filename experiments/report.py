@@ -44,7 +44,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "report"))
 
-from verdict import METRIC_NAMES, rank_text, read_verdict  # noqa: E402 (this script's folder is on sys.path)
+from verdict_files import METRIC_NAMES, rank_text, read_verdict  # noqa: E402
 import images  # noqa: E402
 import page  # noqa: E402
 from plots import plot_scene, value_text  # noqa: E402

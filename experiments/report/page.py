@@ -13,7 +13,7 @@ import math
 import os
 
 from images import data_uri, png_size
-from verdict import rank_text
+from verdict_files import rank_text
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 esc = html.escape

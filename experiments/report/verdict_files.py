@@ -1,6 +1,7 @@
 """A run's verdict files, as experiments/verdict/run_folder.cpp writes them
 (the one place where rank groups, intervals and tests are computed): the
-report, final_table.py and lightbench.load_run read them through this.
+report and final_table.py read them through this (lightbench.load_run reads
+them into pandas).
 
     read_verdict(run_dir) -> {scene: SceneVerdict} or {} when the run has none
 
