@@ -17,7 +17,7 @@ importable (the runner puts it on PYTHONPATH), else the 8-bit PNGs.
 
 The table, the ranking and every interval come from the run's verdict
 files (verdict.csv and its companions, written by the runner or by
-`lightbench verdict RUN`; read by experiments/verdict.py): nothing here
+`lightbench verdict RUN`; read by experiments/report/verdict_files.py): nothing here
 tests or ranks.
 
 Per scene it draws (SCENE__NAME.{png,svg}, experiments/report/plots.py)

@@ -6,7 +6,7 @@ One colour per configuration across every plot and the image grid; unbiased
 configurations are drawn solid, biased or consistent ones dashed. Each curve
 is the mean over repeats of the error corrected for the reference's noise,
 and its shaded band the confidence interval of that mean (the run's verdict
-files, experiments/verdict.py: Student t over the repeats, the runs' spread);
+files, experiments/report/verdict_files.py: Student t over the repeats, the runs' spread);
 a run without them shows the median of the raw errors, with no band. The
 members of a sweep share one colour family (a sequential colormap, lighter to
 darker in the experiment's order) and stand together in the legends under

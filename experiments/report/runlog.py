@@ -206,7 +206,7 @@ def mean_sd(values):
 def summary(labels, meta=None):
     """Per label: final raw metrics (mean over repeats), times, samples and
     slopes. The verdict (rank groups, intervals, corrected values,
-    efficiency) is the run's verdict files' (experiments/verdict.py)."""
+    efficiency) is the run's verdict files' (experiments/report/verdict_files.py)."""
     table = {}
     for label, repeats in labels.items():
         finals = [rows[-1] for rows in repeats.values() if rows]
