@@ -102,10 +102,16 @@ LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>
   out_.open(path, std::ios::app);
 }
 
-void LogWriter::write(const std::vector<std::string>& fields) {
+void LogWriter::write(const std::vector<std::string>& fields) { write(std::vector<std::vector<std::string>>{fields}); }
+
+void LogWriter::write(const std::vector<std::vector<std::string>>& rows) {
+  std::string text;
+  for (const auto& fields : rows) {
+    for (size_t i = 0; i < fields.size(); ++i) text += (i ? "," : "") + csvField(fields[i]);
+    text += "\n";
+  }
   std::lock_guard<std::mutex> lock(mutex_);
-  for (size_t i = 0; i < fields.size(); ++i) out_ << (i ? "," : "") << csvField(fields[i]);
-  out_ << "\n";
+  out_ << text;
   out_.flush();
 }
 

@@ -35,6 +35,9 @@ class LogWriter {
   // finished and adds their keys to `completed`.
   LogWriter(const std::string& path, bool resume, std::set<std::string>* completed);
   void write(const std::vector<std::string>& fields);  // thread-safe
+  // Several rows in one write and flush (a run's final rows: a kill cannot
+  // fall between them, only tear the last).
+  void write(const std::vector<std::vector<std::string>>& rows);
 
  private:
   std::ofstream out_;

@@ -1,6 +1,7 @@
 #include "experiments/runner.h"
 #include "experiments/report_step.h"
 #include <tbb/info.h>
+#include <algorithm>
 #include <tbb/task_arena.h>
 #include <unistd.h>
 #include <atomic>
@@ -138,6 +139,16 @@ std::vector<std::string> referenceIdsOf(const Experiment& e) {
 }
 
 MachineColumns thisMachine(int threads) { return {hostName(), cpuModel(), threads}; }
+
+// A run's rows as the log gets them: the snapshots in order, then its raw
+// final row, which marks the run finished for --resume, then the denoised
+// final row. One write: a kill can tear only the last, and then the denoised
+// label misses that repeat rather than having it twice when the run is redone.
+std::vector<std::vector<std::string>> inLogOrder(std::vector<std::vector<std::string>> rows, const std::string& label) {
+  auto rank = [&](const std::vector<std::string>& r) { return r.back() != "1" ? 0 : r[1] == label ? 1 : 2; };
+  std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+  return rows;
+}
 
 std::string encodeRunResult(const std::vector<std::vector<std::string>>& rows, const RunOutcome& out) {
   ByteWriter w;
@@ -317,7 +328,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
             RunOutcome outcome;
             decodeRunResult(bytes, rows, outcome);
             writeRunImages(runDir.string(), e, t, outcome, references[t.scene].image);
-            for (const auto& r : rows) log.write(r);
+            log.write(inLogOrder(rows, e.configurations[t.config].label));
             finished(t);
             ++done;
             const std::vector<std::string>& last = rows.back();
@@ -355,7 +366,7 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                          p.final ? " final" : "", over.c_str(), elapsedText(p.seconds, p.final).c_str());
           });
       writeRunImages(runDir.string(), e, t, outcome, references[t.scene].image);
-      for (const auto& r : finalRows) log.write(r);
+      log.write(inLogOrder(std::move(finalRows), c.label));
       finished(t);
       ++done;
     };

@@ -6,7 +6,7 @@
 // that is still undecided the next number of repeats of the schedule
 // min, 2·min, 4·min, …, max; where the reference's noise is most of such a
 // pair's uncertainty and extend_reference is set, it doubles the reference's
-// chunks instead of (or besides) adding repeats. It stops when every
+// chunks instead of adding repeats. It stops when every
 // adjacent pair of every scene is decided or the schedule ends.
 //
 // Looking at the data after every step and stopping when a test rejects

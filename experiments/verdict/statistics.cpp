@@ -93,6 +93,8 @@ double satterthwaiteDof(const std::vector<double>& variances, const std::vector<
 }
 
 double twoSidedP(double difference, double standardError, double dof) {
+  // Anything not a number decides nothing.
+  if (std::isnan(difference) || std::isnan(standardError) || std::isnan(dof)) return 1;
   if (!(standardError > 0)) return difference == 0 ? 1 : 0;
   double t = std::abs(difference) / standardError;
   return std::min(1.0, 2 * (1 - studentTCdf(t, dof)));

@@ -29,7 +29,8 @@ double studentTQuantile(double p, double dof);
 double satterthwaiteDof(const std::vector<double>& variances, const std::vector<double>& dofs);
 
 // Two-sided p-value of a difference d whose standard error is se, with dof
-// degrees of freedom: 2 P(T > |d| / se). se = 0: 1 when d = 0, else 0.
+// degrees of freedom: 2 P(T > |d| / se). se = 0: 1 when d = 0, else 0; any
+// NaN: 1 (nothing is decided on it).
 double twoSidedP(double difference, double standardError, double dof);
 
 // Holm (1979): the step-down adjusted p-values, in the input's order. A

@@ -61,6 +61,9 @@ bool sameImages(const std::vector<Image>& a, const std::vector<Image>& b) {
   return true;
 }
 
+// The bound on a pixel's three correlated channels (Judge::referenceSum).
+constexpr double ChannelBound = 3;
+
 // What one scene's judging shares: its evidence, settings, and each
 // configuration's pixel moments (computed once).
 struct Judge {
@@ -68,11 +71,13 @@ struct Judge {
   const VerdictSettings& s;
   std::vector<std::optional<PixelMoments>> moments;
   bool varianceKnown;
-  double chunkDof;
+  double chunks, chunkDof;
 
   Judge(const SceneEvidence& evidence, const VerdictSettings& settings) : e(evidence), s(settings) {
     varianceKnown = !e.referenceVariance.pixels.empty();
-    chunkDof = e.referenceChunks > 1 ? double(e.referenceChunks - 1) : INFINITY;
+    // Chunks unknown (0): no small-sample corrections, exact degrees of freedom.
+    chunks = e.referenceChunks > 1 ? double(e.referenceChunks) : INFINITY;
+    chunkDof = chunks - 1;
     for (const auto& c : e.configurations) {
       if (c.finals.empty()) throw std::invalid_argument("verdict: configuration '" + c.label + "' has no final image");
       moments.push_back(c.finals.size() >= 2 ? std::optional<PixelMoments>(momentsOf(c.finals)) : std::nullopt);
@@ -84,10 +89,17 @@ struct Judge {
   }
 
   // Σ over the metric's values of w² · term(index, r, v) / N², N the number
-  // of values, and the degrees of freedom of that sum of independent
-  // per-value variance estimates, each with chunks − 1 (Satterthwaite over
-  // the values, the negative ones counted as zero): a sum over many pixels
-  // is known far better than one pixel's, unless a few pixels hold it.
+  // of values, and the degrees of freedom of that sum of per-value variance
+  // estimates, each with chunks − 1 (Satterthwaite over the pixels, the
+  // negative ones counted as zero): a sum over many pixels is known far
+  // better than one pixel's, unless a few pixels hold it.
+  //
+  // A pixel's three channels are one path's throughput, so their errors are
+  // correlated, and the reference's variance of the mean says nothing of
+  // their covariance. The variance of a sum of three correlated terms is at
+  // most 3 × the sum of their variances (Cauchy–Schwarz: aᵀPa ≤ 3 |a|² for a
+  // correlation matrix P), with equality for grey, fully correlated noise:
+  // each pixel counts 3 × its channels' sum. Pixels are taken as independent.
   struct ReferenceSum {
     double sum = 0, dof = INFINITY;
   };
@@ -96,15 +108,19 @@ struct Judge {
     Crop c = region(m);
     double sum = 0, positive = 0, squares = 0, n = 0;
     for (int y = c.y0; y < c.y1; ++y)
-      for (int x = c.x0; x < c.x1; ++x)
+      for (int x = c.x0; x < c.x1; ++x) {
+        double pixel = 0;
         for (int ch = 0; ch < 3; ++ch) {
           size_t i = (size_t(y) * e.reference.width + x) * 3 + ch;
           double r = e.reference.at(x, y)[ch], v = e.referenceVariance.at(x, y)[ch];
           double w = squaredErrorWeight(m.kind, r, s.metric.relEpsilon);
-          double a = w * w * term(i, r, v);
-          sum += a, n += 1;
-          if (a > 0) positive += a, squares += a * a;
+          pixel += w * w * term(i, r, v);
+          n += 1;
         }
+        double a = ChannelBound * pixel;
+        sum += a;
+        if (a > 0) positive += a, squares += a * a;
+      }
     ReferenceSum out;
     if (n == 0) return out;
     out.sum = sum / (n * n);
@@ -138,11 +154,12 @@ struct Judge {
         // β̂ = (x̄ − r)² − s²/R − v̂, E[β̂ v̂] = b² v − 2 v²/(c − 1). Summed
         // unclamped (clamping each value would bias it up), then clamped.
         const PixelMoments& pm = *moments[config];
-        const double c = double(std::max<uint64_t>(e.referenceChunks, 2));
-        ReferenceSum correction = referenceSum(m, [&](size_t, double, double v) { return 2 * v * v * c / (c + 1); });
+        // c/(c + 1) and 2/(c + 1), written so that c = ∞ gives 1 and 0.
+        const double shrink = 1 / (1 + 1 / chunks), extra = 2 / (chunks + 1);
+        ReferenceSum correction = referenceSum(m, [&](size_t, double, double v) { return 2 * v * v * shrink; });
         ReferenceSum bias = referenceSum(m, [&](size_t i, double ref, double v) {
           double d = pm.mean[i] - ref;
-          return 4 * ((d * d - pm.variance[i] / R - v) * v + 2 * v * v / (c + 1));
+          return 4 * ((d * d - pm.variance[i] / R - v) * v + extra * v * v);
         });
         est.referenceVariance = correction.sum + std::max(0.0, bias.sum);
         referencePartDof = satterthwaiteDof({correction.sum, std::max(0.0, bias.sum)}, {correction.dof, bias.dof});
@@ -152,6 +169,7 @@ struct Judge {
       BatchMeans b = batchMeans(runs[0].tileSum, runs[0].tileCount);
       runsVariance = b.varianceOfMean, runsDof = b.dof;
     }
+    est.runsVariance = runsVariance;
     est.variance = runsVariance + est.referenceVariance;
     est.dof = satterthwaiteDof({runsVariance, est.referenceVariance}, {runsDof, referencePartDof});
     double half = studentTQuantile(1 - s.alpha() / 2, est.dof) * std::sqrt(est.variance);
@@ -173,7 +191,7 @@ struct Judge {
       p.dof = INFINITY;
     } else if (A.finals.size() >= 2 && B.finals.size() >= 2) {
       const double Ra = double(A.finals.size()), Rb = double(B.finals.size());
-      double va = est[a].variance - est[a].referenceVariance, vb = est[b].variance - est[b].referenceVariance;
+      double va = est[a].runsVariance, vb = est[b].runsVariance;
       if (varianceKnown) {
         const PixelMoments& ma = *moments[a];
         const PixelMoments& mb = *moments[b];
@@ -199,9 +217,10 @@ struct Judge {
       variance = bm.varianceOfMean, p.dof = bm.dof;
       if (std::all_of(sums.begin(), sums.end(), [](double v) { return v == 0; })) variance = 0;
     } else {
-      // One repeat against several: each estimate's own variance (the
-      // reference's shared part counted in both: conservative).
-      variance = est[a].variance + est[b].variance;
+      // One repeat against several: the two estimates share the reference,
+      // with a covariance of either sign, so Var(A − B) ≤ (σ_A + σ_B)².
+      double sa = std::sqrt(est[a].variance), sb = std::sqrt(est[b].variance);
+      variance = (sa + sb) * (sa + sb);
       p.dof = satterthwaiteDof({est[a].variance, est[b].variance}, {est[a].dof, est[b].dof});
     }
     p.referenceShare = variance > 0 ? referencePart / variance : 0;
@@ -266,7 +285,7 @@ void timeToTarget(const ConfigurationEvidence& c, double target, double alpha, C
   };
   v.timeToTarget = firstCrossing(m.x, m.mean, target);
   if (c.curves.size() > 1) v.timeToTargetLow = crossing(m.low), v.timeToTargetHigh = crossing(m.high);
-  else if (v.timeToTarget == m.x.front()) v.timeToTargetLow = 0;
+  else if (v.timeToTarget == m.x.front()) v.timeToTargetLow = 0, v.timeToTargetHigh = v.timeToTarget;  // by then
 }
 
 }  // namespace
@@ -316,7 +335,9 @@ SceneVerdict judgeScene(const SceneEvidence& e, const VerdictSettings& s) {
   for (size_t i = 0; i < K; ++i) est.push_back(judge.estimate(i, *metric));
   v.order.resize(K);
   std::iota(v.order.begin(), v.order.end(), 0);
-  std::stable_sort(v.order.begin(), v.order.end(), [&](size_t a, size_t b) { return est[a].value < est[b].value; });
+  // NaN (a non-finite image) last, never "better".
+  auto key = [&](size_t i) { return std::isnan(est[i].value) ? INFINITY : est[i].value; };
+  std::stable_sort(v.order.begin(), v.order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   std::vector<size_t> position(K);
   for (size_t k = 0; k < K; ++k) position[v.order[k]] = k;
 

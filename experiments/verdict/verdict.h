@@ -15,8 +15,10 @@
 //   v (estimated from c chunks) and bias b of the configuration,
 //       Var = Σ w² (2 v² (1 + 1/(c − 1)) + 4 b² v) / N²
 //   (the correction's own error and the bias's cross term with the
-//   reference's error, for normal reference errors; b² is estimated per value
-//   by (x̄ − r)² − s²/R − v, clamped at 0), with c − 1 degrees of freedom. With
+//   reference's error, for normal reference errors; each estimated without
+//   bias per value, summed, then clamped at 0; a pixel's three channels
+//   counted 3× for their unknown correlation), with Satterthwaite's degrees
+//   of freedom over the pixels, each with c − 1. With
 //   one repeat, the variance comes from batch means over tiles of the image
 //   (the tiles' errors independent: statistics.h), which hold the
 //   reference's noise too. Intervals: Student t with Welch–Satterthwaite
@@ -26,8 +28,10 @@
 //   corrected values give the same test): Welch's t, its variance the two
 //   repeats' variances plus the reference's part of the difference,
 //   4 Σ w² (b_A − b_B)² v / N², which vanishes for two unbiased methods. Two
-//   single repeats are compared tile by tile (paired batch means), where
-//   everything they share cancels. Holm's correction over all pairs of the
+//   single repeats are compared tile by tile (paired batch means): the
+//   correction's error cancels in each tile's difference, and the rest of
+//   the reference's noise (−2 ε (x_A − x_B) per value) varies from tile to
+//   tile, so the tiles' spread holds it. Holm's correction over all pairs of the
 //   scene keeps the family-wise error at 1 − confidence (divided among the
 //   looks of a sequential experiment).
 // * Rank groups: configuration i's rank lies in [1 + #(significantly
@@ -89,6 +93,7 @@ struct VerdictSettings {
 struct Estimate {
   double value = 0, raw = 0;     // corrected and raw means over the repeats
   double variance = 0;           // of `value`: the runs' part plus the reference's
+  double runsVariance = 0;       // the runs' part (repeats, or tiles)
   double referenceVariance = 0;  // the reference's part
   double dof = INFINITY;
   double low = 0, high = 0;      // its interval at the verdict's level

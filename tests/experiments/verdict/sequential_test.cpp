@@ -135,6 +135,40 @@ TEST(Sequential, FalseDecisionRateStaysAtTheNominalLevel) {
     }
 }
 
+// A pair held back by the reference's noise (over half its variance):
+// with extend_reference the look doubles the reference and adds no repeats;
+// without it, repeats. runLooks then judges again at the next look.
+TEST(Sequential, ReferenceDominatedPairsExtendTheReference) {
+  JudgedScene scene;
+  scene.configurationOf = {0, 1};
+  PairComparison p;
+  p.a = 0, p.b = 1, p.adjacent = true, p.decided = false, p.difference = 0.1, p.low = -0.1, p.high = 0.3;
+  p.referenceShare = 0.8;
+  scene.verdict.pairs = {p};
+  LookDecision d = decideLook(scene, {4, 4}, 8, true);
+  EXPECT_TRUE(d.extendReference);
+  EXPECT_TRUE(d.extend.empty());
+  d = decideLook(scene, {4, 4}, 8, false);
+  EXPECT_FALSE(d.extendReference);
+  EXPECT_EQ(d.extend, (std::set<size_t>{0, 1}));
+  EXPECT_TRUE(decideLook(scene, {8, 8}, 0, true).extend.empty()) << "nothing after the last look";
+
+  RepeatPlan plan = untilDecided(4, 16);
+  plan.extendReference = true;
+  int looks = 0, extensions = 0;
+  RepeatTargets t = runLooks(
+      plan, 1, 2, [&](const RepeatTargets&) { ++looks; },
+      [&](size_t, const std::vector<int>&) {
+        JudgedScene j = scene;
+        j.verdict.pairs[0].decided = extensions > 0;  // the longer reference decides it
+        return j;
+      },
+      [&](size_t) { ++extensions; });
+  EXPECT_EQ(extensions, 1);
+  EXPECT_EQ(looks, 2);
+  EXPECT_EQ(t[0], (std::vector<int>{4, 4}));
+}
+
 TEST(Sequential, ReasonsNameWhatKeepsAPairUndecided) {
   RepeatPlan plan = untilDecided(2, 8);
   PairComparison p;
