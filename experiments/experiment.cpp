@@ -131,6 +131,16 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
     *at = locate(*ref, "file");
     r.file = (std::filesystem::path(folder) / ref->getString("file", "")).string();
     if (missing(r.file)) ref->fail("file", "reference image not found: " + r.file + whyMissing(r.file));
+    if (ref->has("variance")) {
+      r.varianceFile = (std::filesystem::path(folder) / ref->getString("variance", "")).string();
+      if (missing(r.varianceFile))
+        ref->fail("variance", "reference variance image not found: " + r.varianceFile + whyMissing(r.varianceFile));
+      int chunks = ref->getInt("chunks", 0);
+      if (chunks != 0 && chunks < 2) ref->fail("chunks", "must be at least 2 (a variance across chunks), or 0: unknown");
+      r.chunks = uint64_t(chunks);
+    } else if (ref->has("chunks")) {
+      ref->fail("chunks", "is the number of chunks of a `variance` image; give `variance` too");
+    }
   } else {
     if (ref->has("scene")) {
       *at = locate(*ref, "scene");
@@ -197,6 +207,9 @@ void readRepeats(Params& p, const ExperimentOptions& options, Experiment& e) {
     r.repeats = plan->getInt("max", 16);
     r.extendReference = plan->getBool("extend_reference", false);
     plan->checkUnused();
+    for (const auto& s : e.scenes)
+      if (r.extendReference && !s.reference.file.empty())
+        plan->fail("extend_reference", "scene '" + s.name + "' has a given reference (file), which cannot be extended");
     if (r.min < 2) plan->fail("min", "must be at least 2 (a pair's test needs two repeats of each)");
     if (r.repeats < r.min || r.repeats > 1000) plan->fail("max", "must be in [min, 1000]");
     e.repeats = r.repeats;

@@ -23,6 +23,12 @@ struct KeyLocation {
 
 struct ReferenceSpec {
   std::string file;            // an EXR to use as is, or empty: compute and cache
+  // With `file`: its per-pixel variance of the mean (an EXR, e.g. a cached
+  // reference's NAME-KEY.variance.exr) and the number of independent chunks
+  // that variance was estimated from (0: unknown), so that errors against a
+  // given reference are corrected for its noise too.
+  std::string varianceFile;
+  uint64_t chunks = 0;
   std::string scene;           // render it from this scene instead of the run's (e.g. the unscaled or the
                                // point-light version); empty: the run's scene with all its overrides
   std::string integrator = "path";

@@ -134,7 +134,8 @@ std::string jobIdentity(const Experiment& e, const std::string& experimentHash) 
 
 std::vector<std::string> referenceIdsOf(const Experiment& e) {
   std::vector<std::string> ids;
-  for (const auto& s : e.scenes) ids.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file);
+  for (const auto& s : e.scenes)
+    ids.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file + "|" + s.reference.varianceFile);
   return ids;
 }
 
@@ -204,10 +205,19 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::vector<Reference> references(e.scenes.size());
   auto obtain = [&](size_t si, const ExperimentScene& s) {
     if (!s.reference.file.empty()) {
-      std::cerr << "reference: " << s.reference.file << " (given)\n";
+      std::cerr << "reference: " << s.reference.file << " (given"
+                << (s.reference.varianceFile.empty() ? "" : ", with its variance " + s.reference.varianceFile) << ")\n";
       Reference given;
       given.image = checked.givenReferences[si];
-      given.description = "file " + s.reference.file;
+      given.variance = checked.givenVariances[si];
+      given.chunks = s.reference.chunks;
+      if (!given.variance.pixels.empty()) {
+        double sum = 0;
+        for (const Color& c : given.variance.pixels) sum += double(c.r) + c.g + c.b;
+        given.varianceOfMean = sum / (3.0 * double(given.variance.pixels.size()));
+      }
+      given.description = "file " + s.reference.file +
+                          (s.reference.varianceFile.empty() ? "" : ", variance " + s.reference.varianceFile);
       return given;
     }
     if (farm) {

@@ -42,11 +42,20 @@ CheckedExperiment validateExperiment(const Experiment& e) {
   for (const ExperimentScene& s : e.scenes) {
     SceneFile sf = loadScene(s.path, s.overrides);
     int w = sf.scene->camera.width(), h = sf.scene->camera.height();
-    Image given;
+    Image given, variance;
     if (!s.reference.file.empty()) {
       given = readReferenceExr(s.reference.file, s.referenceAt);
       if (given.width != w || given.height != h)
         throw s.referenceAt.error("reference is " + size(given.width, given.height) + ", the scene renders " + size(w, h));
+      if (!s.reference.varianceFile.empty()) {
+        variance = readReferenceExr(s.reference.varianceFile, s.referenceAt);
+        if (variance.width != w || variance.height != h)
+          throw s.referenceAt.error("reference variance is " + size(variance.width, variance.height) +
+                                    ", the reference " + size(w, h));
+        for (const Color& c : variance.pixels)
+          if (c.r < 0 || c.g < 0 || c.b < 0)
+            throw s.referenceAt.error("reference variance " + s.reference.varianceFile + " has negative values");
+      }
     } else if (!s.reference.scene.empty()) {
       // Loaded only to learn its resolution: a mismatch would otherwise show
       // only after the reference had rendered.
@@ -62,6 +71,7 @@ CheckedExperiment validateExperiment(const Experiment& e) {
                            size(w, h) + " image of " + s.name);
     checked.scenes.push_back(std::move(sf));
     checked.givenReferences.push_back(std::move(given));
+    checked.givenVariances.push_back(std::move(variance));
   }
   return checked;
 }

@@ -17,6 +17,7 @@ namespace lb {
 struct CheckedExperiment {
   std::vector<SceneFile> scenes;       // as the runs use them, one per experiment scene
   std::vector<Image> givenReferences;  // the image of a `reference: {file: …}`, else empty
+  std::vector<Image> givenVariances;   // its `variance`, else empty
 };
 
 CheckedExperiment validateExperiment(const Experiment& experiment);

@@ -278,6 +278,15 @@ TEST_F(BadExperiment, VerdictKeysAreChecked) {
     writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", c.extra);
     expectRefused(c.expected);
   }
+  // A given reference's variance: a file that exists, of the reference's size,
+  // and a chunk count only with it.
+  writeExperiment("{file: ref.exr, variance: nowhere.exr}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.variance': reference variance image not found");
+  writeExperiment("{file: ref.exr, chunks: 8}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.chunks': is the number of chunks of a `variance` image");
+  writeExr((dir_ / "small.exr").string(), Image(4, 4));
+  writeExperiment("{file: ref.exr, variance: small.exr, chunks: 8}");
+  expectRefused("reference variance is 4×4, the reference 8×8");
   // A crop metric needs a crop in every scene.
   std::string text = readFile(writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "rank_by: rmse_crop\n"));
   text.replace(text.find("    crop: [0, 0, 8, 8]\n"), 22, "");

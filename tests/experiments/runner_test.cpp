@@ -3,6 +3,7 @@
 // bad experiment files (through the real binary).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -337,6 +338,45 @@ TEST_F(Runner, UntilDecidedAddsRepeatsToUndecidedPairsAndSaysWhy) {
   ASSERT_EQ(runBinary((dir_ / "far.yaml").string() + " --no-report --results " + results.string(), &err), 0) << err;
   EXPECT_EQ(err.find("until decided:"), std::string::npos) << err;
   EXPECT_EQ(err.find("undecided: "), std::string::npos) << err;
+}
+
+// A given reference with its variance (a cached one's files, or one rendered
+// elsewhere) corrects the errors exactly as the rendered one does: the same
+// verdict, value for value.
+TEST_F(Runner, AGivenReferenceWithItsVarianceCorrectsAsTheRenderedOne) {
+  const std::string scenes = "scenes:\n  - {scene: scene.yaml, resolution: [16, 16], reference: ";
+  const std::string rest = "}}\nconfigurations:\n  - {label: mis, integrator: path}\n  - {label: bsdf, integrator: path, "
+                           "params: {nee: false}}\nbudget: {spp: 8}\nsnapshots: {count: 1}\nrepeats: 3\n";
+  std::ofstream(dir_ / "rendered.yaml") << scenes << "{integrator: path, spp: 64" << rest;
+  RunnerOptions o;
+  o.resultsRoot = (dir_ / "results").string();
+  o.report = false;
+  Experiment rendered = loadExperiment((dir_ / "rendered.yaml").string(), {});
+  fs::path a = runExperiment(rendered, o);
+  std::string stem = (dir_ / "results" / "references" / ("scene-" + referenceKey(rendered.scenes[0]))).string();
+  std::ofstream(dir_ / "given.yaml") << scenes << "{file: " << stem << ".exr, variance: " << stem
+                                     << ".variance.exr, chunks: 8" << rest;
+  // The cached reference's chunk count, as its sidecar records it.
+  YAML::Node sidecar = YAML::LoadFile(stem + ".yaml");
+  std::string text = readFile(dir_ / "given.yaml");
+  text.replace(text.find("chunks: 8"), 9, "chunks: " + sidecar["chunks"].as<std::string>());
+  std::ofstream(dir_ / "given.yaml") << text;
+  fs::path b = runExperiment(loadExperiment((dir_ / "given.yaml").string(), {}), o);
+  CsvTable va = readCsv(a / "verdict.csv"), vb = readCsv(b / "verdict.csv");
+  ASSERT_EQ(va.rows.size(), vb.rows.size());
+  for (size_t i = 0; i < va.rows.size(); ++i)
+    for (const char* column : {"label", "value", "ci_low", "ci_high", "rank_group"})
+      EXPECT_EQ(va.rows[i].at(column), vb.rows[i].at(column)) << column;
+  nlohmann::json meta = nlohmann::json::parse(readFile(b / "meta.json"));
+  EXPECT_EQ(meta["scenes"][0]["reference_chunks"], sidecar["chunks"].as<int>());
+  // A given reference cannot be extended.
+  std::ofstream(dir_ / "given.yaml", std::ios::app) << "";
+  text = readFile(dir_ / "given.yaml");
+  text.replace(text.find("repeats: 3"), 10, "repeats: {until_decided: true, extend_reference: true}");
+  std::ofstream(dir_ / "given.yaml") << text;
+  std::string err;
+  EXPECT_EQ(runBinary((dir_ / "given.yaml").string(), &err), 2);
+  EXPECT_NE(err.find("has a given reference (file), which cannot be extended"), std::string::npos) << err;
 }
 
 TEST_F(Runner, ReferenceKeyChangesWithSceneAndMesh) {
