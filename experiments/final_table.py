@@ -59,7 +59,7 @@ def ranked(run_dir, floors, meta):
         print(f"| rank | configuration | {name} [interval] | vs next (Holm p) | "
               + " | ".join(METRIC_NAMES[m] for m in others)
               + f" | speed-up over {v.rows[0]['baseline']} | repeats | bias² | variance |")
-        print("|---" * (7 + len(others)) + "|")
+        print("|---" * (8 + len(others)) + "|")
         for r in v.rows:
             pair = v.next_pair(r["label"])
             nxt = f"{g(pair['p_holm'], 2)}{'' if pair['decided'] else ' (tied)'}" if pair else ""

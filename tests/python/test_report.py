@@ -493,3 +493,18 @@ def test_runs_timed_on_different_kinds_of_machine_are_refused_unless_asked(tmp_p
     assert report("--mixed-machines").returncode == 0
     rewrite(lambda r: {"host": "n", "cpu": "EPYC", "threads": "8" if r["repeat"] == "0" else "4"})
     assert report().returncode == 3
+
+
+def test_final_table_ranked_rows_have_the_headers_columns(tmp_path):
+    """docs/results.md's tables come from final_table.py --ranked: a row or
+    separator with another cell count than the header is not a table."""
+    run_dir = str(tmp_path / "run")
+    write_run(run_dir, tied=True)
+    script = os.path.join(os.path.dirname(REPORT), "final_table.py")
+    p = subprocess.run(["/usr/bin/python3", script, run_dir, "--ranked"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
+    rows = [line for line in p.stdout.splitlines() if line.startswith("|")]
+    assert len(rows) == 2 + len(CONFIGS)
+    cells = [line.count("|") for line in rows]
+    assert cells == [cells[0]] * len(rows), p.stdout
+    assert "(tied)" in p.stdout
