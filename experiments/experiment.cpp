@@ -10,6 +10,10 @@ namespace lb {
 
 namespace {
 
+// The longest budget anything in an experiment may ask for (a reference's
+// or a run's seconds): a typo of 1e30 runs forever otherwise (issue 34).
+constexpr double kMaxBudgetSeconds = 30 * 24 * 3600.0;
+
 bool integratorUnbiased(const std::string& name, const YAML::Node& params) {
   for (const auto& e : integratorRegistry())
     if (e.name == name) return e.unbiased(params);
@@ -165,7 +169,7 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
                 "give one reference budget: spp, seconds or noise_floor");
     if (ref->has("seconds")) {
       double seconds = ref->getFloat("seconds", 0);
-      if (!(seconds > 0 && seconds <= 30 * 24 * 3600.0)) ref->fail("seconds", "must be > 0 and at most 30 days");
+      if (!(seconds > 0 && seconds <= kMaxBudgetSeconds)) ref->fail("seconds", "must be > 0 and at most 30 days");
       r.spp = 0;
       r.seconds = options.quick ? seconds / 4 : seconds;
     } else if (ref->has("noise_floor")) {
@@ -187,7 +191,9 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
     // run should find (and extend) the full run's chunks.
     if (ref->has("spp"))
       r.chunkSpp = std::min<uint64_t>(r.chunkSpp, std::max<uint64_t>(1, uint64_t(ref->getInt("spp", 1)) / 2));
-    r.seed = uint64_t(ref->getInt("seed", int(r.seed)));
+    int seed = ref->getInt("seed", int(r.seed));
+    if (seed < 0) ref->fail("seed", "must not be negative");
+    r.seed = uint64_t(seed);
   }
   ref->checkUnused();
   return r;
@@ -250,6 +256,45 @@ void readVerdictKeys(Params& p, Experiment& e) {
     }
     if (!found) p.fail("baseline", "no configuration is labelled '" + e.baseline + "' (labels: " + labels + ")");
   }
+}
+
+// A run folder names a scene's own files <scene>__<name>.* (the reference's
+// images in experiments/runner.cpp, the plots in experiments/report/plots.py)
+// and a configuration's <scene>__<slug(label)>.*: a label whose slug is one
+// of these names, or starts a sweep plot's, would replace that file (issue
+// 34: a configuration labelled "reference" overwrote the reference).
+// tests/experiments/runner_test.cpp checks the list against what a run writes.
+constexpr const char* kRunFileNames[] = {"reference", "convergence", "efficiency"};
+constexpr const char* kSweepPlotPrefix = "sweep-";
+// The longest a configuration's file adds to <scene>__<slug>: "__repeat1000.exr"
+// (repeats are at most 1000; longer than "_error_crop.png"), and each file is
+// first written as .<name>.tmp-<pid> (core/image.cpp; Linux's pids have at
+// most 7 digits).
+constexpr size_t kLongestSuffix = sizeof("__repeat1000.exr") - 1 + sizeof("..tmp-4194304") - 1;
+constexpr size_t kNameMax = 255;  // NAME_MAX of Linux's file systems
+
+// Why `label` cannot name a configuration's files in these scenes' run
+// folder, or "" if it can: checked before anything renders, so a label does
+// not fail a run at its first image, after the reference was cached.
+std::string runFileProblem(const std::string& label, const std::vector<ExperimentScene>& scenes) {
+  std::string s = slug(label);
+  if (s.empty()) return "a label must not be empty (it names the configuration's files)";
+  for (const char* name : kRunFileNames)
+    if (s == name)
+      return "label '" + label + "' would name its files <scene>__" + name +
+             ".*, which the run writes itself; choose another label";
+  if (s.rfind(kSweepPlotPrefix, 0) == 0)
+    return "label '" + label + "' would name its files like a sweep's plot (<scene>__" + kSweepPlotPrefix +
+           "*); choose another label";
+  size_t longestScene = 0;
+  for (const auto& scene : scenes) longestScene = std::max(longestScene, scene.name.size());
+  size_t fixed = longestScene + 2 + kLongestSuffix;
+  if (fixed + s.size() > kNameMax)
+    return "label '" + label.substr(0, 24) + "…' is " + std::to_string(label.size()) +
+           " bytes: its files would have names of " + std::to_string(fixed + s.size()) +
+           " bytes, over the file system's " + std::to_string(kNameMax) + "; with these scene names a label has at most " +
+           std::to_string(fixed < kNameMax ? kNameMax - fixed : 0) + " bytes";
+  return "";
 }
 
 }  // namespace
@@ -361,6 +406,9 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
             (!c.denoise.empty() && slug(c.denoisedLabel()) == slug(other.label)))
           cp.fail(c.sweepGroup.empty() ? "label" : "sweep", "label '" + c.label + "' collides with '" + other.label +
                                                                 "' (file names use letters and digits, lower case)");
+      for (const std::string& label : {c.label, c.denoise.empty() ? c.label : c.denoisedLabel()})
+        if (std::string problem = runFileProblem(label, e.scenes); !problem.empty())
+          cp.fail(c.sweepGroup.empty() ? "label" : "sweep", problem);
       auto integrator =
           validateIntegrator(c.integrator, c.params, cp.file(), c.sweepGroup.empty() ? c.context : cp.context() + ".sweep");
       if (c.adaptive.enabled && !integrator->adaptiveRefusal().empty())
@@ -376,9 +424,12 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   auto budget = p.getChild("budget");
   if (!budget) p.fail("budget", "is required (seconds and/or spp)");
   e.budget.seconds = budget->getFloat("seconds", 0);
-  e.budget.spp = uint64_t(std::max(0, budget->getInt("spp", 0)));
+  int spp = budget->getInt("spp", 0);
   budget->checkUnused();
-  if (e.budget.seconds < 0) budget->fail("seconds", "must not be negative");
+  if (!(e.budget.seconds >= 0 && e.budget.seconds <= kMaxBudgetSeconds))
+    budget->fail("seconds", "must be in [0, 30 days] (2592000 s)");
+  if (spp < 0) budget->fail("spp", "must not be negative");
+  e.budget.spp = uint64_t(spp);
   if (e.budget.seconds == 0 && e.budget.spp == 0) p.fail("budget", "needs seconds and/or spp");
   if (options.quick) e.budget.seconds /= 4, e.budget.spp = e.budget.spp ? std::max<uint64_t>(1, e.budget.spp / 4) : 0;
 
@@ -403,7 +454,9 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     }
   }
   readRepeats(p, options, e);
-  e.seed = uint64_t(p.getInt("seed", 1));
+  int seed = p.getInt("seed", 1);
+  if (seed < 0) p.fail("seed", "must not be negative");  // meta.json said -1, log.csv 2^64 - 1
+  e.seed = uint64_t(seed);
   e.metricSettings.relEpsilon = p.getFloat("relmse_epsilon", 1e-2f);
   if (!(e.metricSettings.relEpsilon > 0)) p.fail("relmse_epsilon", "must be positive");
   if (p.has("outlier_percentile"))

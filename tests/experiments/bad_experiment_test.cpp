@@ -256,6 +256,24 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   exp.replace(exp.find("resolution: [1000000, 1000000]"), 30, "resolution: [8, 8]\n    world_scale: 1e30");
   std::ofstream(text) << exp;
   expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is out of range");
+  // Issue 34: budgets that run forever, and seeds that meta.json and the log
+  // would disagree on (-1 against 2^64 - 1).
+  for (const char* budget : {"{seconds: 1e30}", "{seconds: -1}"}) {
+    text = writeExperiment();
+    exp = readFile(text);
+    exp.replace(exp.find("budget: {spp: 1}"), 16, std::string("budget: ") + budget);
+    std::ofstream(text) << exp;
+    expectRefused("exp.yaml:9: 'budget.seconds': must be in [0, 30 days]");
+  }
+  text = writeExperiment();
+  exp = readFile(text);
+  exp.replace(exp.find("budget: {spp: 1}"), 16, "budget: {spp: -4}");
+  std::ofstream(text) << exp;
+  expectRefused("exp.yaml:9: 'budget.spp': must not be negative");
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "seed: -1\n");
+  expectRefused("exp.yaml:11: 'seed': must not be negative");
+  writeExperiment("{integrator: path, spp: 2, seed: -3}");
+  expectRefused("exp.yaml:4: 'scenes[0].reference.seed': must not be negative");
 }
 
 // The verdict's keys (issue 32): each refusal names its line and key, and
@@ -304,6 +322,34 @@ TEST_F(BadExperiment, ABiasedReferenceIntegratorNeedsToBeAllowed) {
   for (const char* ok : {"{integrator: sppm, spp: 1, allow_biased_reference: true}",
                          "{integrator: vcm, params: {mode: bpt}, spp: 1}", "{integrator: bdpt, spp: 1}"})
     EXPECT_NO_THROW(loadExperiment(writeExperiment(ok), {})) << ok;
+}
+
+// Issue 34: a label names its configuration's files, <scene>__<slug>.*, so
+// it may not be empty, be one of the run's own names (the reference, the
+// plots) or make a name longer than the file system's 255 bytes; each is
+// refused before anything renders. (runner_test.cpp derives the own names
+// from the files a run writes.)
+TEST_F(BadExperiment, LabelsThatWouldNameTheRunsOwnFilesAreRefused) {
+  auto withLabel = [&](const std::string& label) {
+    std::string text = readFile(writeExperiment());
+    text.replace(text.find("label: a,"), 9, "label: '" + label + "',");
+    std::ofstream(dir_ / "exp.yaml") << text;
+  };
+  for (const std::string label : {"reference", "Reference", "efficiency", "convergence", "sweep-radius"}) {
+    withLabel(label);
+    expectRefused("exp.yaml:7: 'configurations[0].label': label '" + label + "' would name its files");
+  }
+  withLabel("");
+  expectRefused("exp.yaml:7: 'configurations[0].label': a label must not be empty");
+  // The scene is named "scene": 255 - 5 - 2 - 29 (".", "__repeat1000.exr",
+  // ".tmp-" and a pid of 7 digits) bytes are left.
+  withLabel(std::string(220, 'L'));
+  expectRefused("exp.yaml:7: 'configurations[0].label': label 'LLLLLLLLLLLLLLLLLLLLLLLL…' is 220 bytes: its files "
+                "would have names of 256 bytes, over the file system's 255; with these scene names a label has at "
+                "most 219 bytes");
+  withLabel(std::string(219, 'L'));
+  std::string err;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "results").string(), &err), 0) << err;
 }
 
 TEST_F(BadExperiment, AnExperimentThatIsNotARegularFileIsRefused) {

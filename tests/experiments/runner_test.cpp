@@ -170,6 +170,30 @@ TEST_F(Runner, WritesLogImagesPlotsAndReport) {
   for (const char* label : {"<figcaption>bsdf</figcaption>", "<figcaption>mis — error</figcaption>"})
     EXPECT_NE(report.find(label), std::string::npos) << label;
   expectMetaSchema(nlohmann::json::parse(readFile(run / "meta.json")));
+
+  // Issue 34: no label may name its files like the run's own. A label whose
+  // slug is L writes scene__L.exr, .png, _crop.png, _error.png and
+  // _error_crop.png (and __repeatN.exr); each file of the run that is not a
+  // configuration's and has that form for a valid slug L must make label L
+  // refused. (The run's files are read here, not the code's list of names.)
+  std::string text = readFile(dir_ / "exp.yaml");
+  int collisions = 0;
+  for (const auto& f : fs::directory_iterator(run)) {
+    std::string name = f.path().filename().string();
+    if (name.rfind("scene__", 0) != 0) continue;
+    for (std::string suffix : {".exr", ".png", "_crop.png", "_error.png", "_error_crop.png"}) {
+      if (name.size() <= 7 + suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix)) continue;
+      std::string label = name.substr(7, name.size() - 7 - suffix.size());
+      bool validSlug = std::all_of(label.begin(), label.end(), [](char c) { return std::islower(c) || std::isdigit(c) || c == '-'; });
+      if (!validSlug || label == "bsdf" || label == "mis") continue;
+      std::string t = text;
+      t.replace(t.find("label: bsdf,"), 12, "label: " + label + ",");
+      std::ofstream(dir_ / "own.yaml") << t;
+      EXPECT_THROW(loadExperiment((dir_ / "own.yaml").string(), {}), std::exception) << name << " as label " << label;
+      ++collisions;
+    }
+  }
+  EXPECT_GE(collisions, 3) << "scene__reference.exr, .png and _crop.png at least";
 }
 
 // meta.json's schema (issue 15): real JSON, parameters as JSON values (not
