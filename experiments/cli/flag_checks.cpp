@@ -6,6 +6,7 @@
 #include <cstring>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -51,7 +52,7 @@ CLI::Validator intInRange(long long minimum, long long maximum, const std::strin
       ">= " + std::to_string(minimum));
 }
 
-CLI::Validator positiveFinite(const std::string& what) {
+CLI::Validator positiveFinite(const std::string& what, double maximum) {
   return CLI::Validator(
       [=](std::string& text) {
         // strtod reads "nan" and "inf" as numbers: both are refused below.
@@ -59,6 +60,11 @@ CLI::Validator positiveFinite(const std::string& what) {
         double v = text.empty() ? 0 : std::strtod(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || !(v > 0))
           return "must be a positive finite number" + (what.empty() ? std::string() : " of " + what) + got(text);
+        if (v > maximum) {
+          char most[32];
+          std::snprintf(most, sizeof most, "%.10g", maximum);
+          return "must be at most " + std::string(most) + (what.empty() ? std::string() : " " + what) + got(text);
+        }
         return std::string();
       },
       "> 0");

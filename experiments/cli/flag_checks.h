@@ -5,6 +5,7 @@
 // failed check becomes one line "--flag: must be ..., got '...'".
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include "core/error.h"
 
@@ -14,8 +15,9 @@ namespace lb {
 CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what);
 // A whole decimal number in [minimum, maximum] (for int-typed flags).
 CLI::Validator intInRange(long long minimum, long long maximum, const std::string& what);
-// A number > 0 that is not NaN or infinite; `what` names its unit.
-CLI::Validator positiveFinite(const std::string& what);
+// A number > 0 that is not NaN or infinite, at most `maximum`; `what` names
+// its unit (a time budget's maximum is 30 days: `--time 1e300` ran forever).
+CLI::Validator positiveFinite(const std::string& what, double maximum = std::numeric_limits<double>::max());
 // "X,Y": two whole non-negative decimal numbers that fit an int.
 CLI::Validator pixelCoordinates();
 // The render's output: NAME.exr (the float image; the PNG preview and the

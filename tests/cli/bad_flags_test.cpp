@@ -32,6 +32,8 @@ TEST_F(BadFlag, SppAndTimeMustBePositiveAndFinite) {
     expectFlagError(renderWith(std::string("--time ") + v), "--time",
                     std::string("must be a positive finite number of seconds, got '") + v + "'");
   }
+  // Issue 34: finite but absurd, it rendered forever ("ETA forever").
+  expectFlagError(renderWith("--time 1e300"), "--time", "must be at most 2592000 seconds, got '1e300'");
 }
 
 TEST_F(BadFlag, AdaptiveNeedsAPixelByPixelIntegratorAndSaneSettings) {
