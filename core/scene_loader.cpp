@@ -33,13 +33,40 @@ SamplerSettings readSamplerSettings(Params& p) {
 
 namespace {
 
+// A light as its file gave it, for checks that need the built scene.
+struct LightSource {
+  const Light* light;
+  Params params;
+  std::string key;  // the key its power comes from
+};
+
 struct LoadContext {
   std::string folder;
   float worldScale = 1;
   std::map<std::string, int> materials;
   int defaultMaterial = -1;
   size_t degenerateTriangles = 0;
+  std::vector<LightSource> lights;
 };
+
+// Light selection weighs each light by its power (core/light_sampler.h). A
+// finite input can overflow it — a point light of 1e38 (power 4π·I), a
+// constant environment of 1e38 over the scene's bounding sphere (4π²r²·L) —
+// and a light chosen with probability NaN or 0 rendered black with no NaN
+// counted (issue 34). Checked once the scene is built (an environment's or a
+// directional light's power depends on the scene's radius), naming the key.
+void checkLightPowers(LoadContext& ctx) {
+  for (LightSource& s : ctx.lights) {
+    Color phi = s.light->power();
+    if (!(std::isfinite(phi.r) && std::isfinite(phi.g) && std::isfinite(phi.b) && std::isfinite(luminance(phi))))
+      s.params.fail(s.key, "the light's power (its emitted flux) is beyond a float's range; lower it");
+  }
+}
+
+void addLight(Scene& scene, LoadContext& ctx, Params& p, const std::string& key, std::unique_ptr<Light> light) {
+  ctx.lights.push_back({light.get(), p, key});
+  scene.addLight(std::move(light));
+}
 
 // transform: {matrix: 16 numbers, row by row} (as Mitsuba writes it), or
 // {scale, rotate_x, rotate_y, rotate_z, translate}, applied in that order.
@@ -244,6 +271,12 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
     shape = Shape::mesh(std::move(mesh));
   }
   if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");
+  // An emitter's power, π·L·area (twice if two-sided), weighs its selection
+  // as a light's does (checkLightPowers); computed in double, it must fit a float.
+  if (double phi = (emission.twoSided ? 2 : 1) * Pi * double(std::max({emission.radiance.r, emission.radiance.g, emission.radiance.b})) *
+                   double(shape.area());
+      !(phi <= double(std::numeric_limits<float>::max())))
+    p.fail("emission", "the emitter's power (π × radiance × area) is beyond a float's range; lower it");
   p.checkUnused();
   shape.materialId = material;
   shape.triangleMaterials = std::move(triangleMaterials);
@@ -267,6 +300,7 @@ Color nonNegative(Params& p, const std::string& key, Color fallback) {
 Color scaledIntensity(Params& p, float s) {
   Color I = nonNegative(p, "intensity", Color(1.f));
   double largest = double(std::max({I.r, I.g, I.b})) * double(s) * double(s);
+  // (Its power, 4π times this, is checked with every light's: checkLightPowers.)
   if (!(largest <= double(std::numeric_limits<float>::max()))) {
     char msg[160];
     std::snprintf(msg, sizeof msg, "%g times world_scale² (%g²) is %g, beyond a float's range", double(std::max({I.r, I.g, I.b})),
@@ -276,12 +310,12 @@ Color scaledIntensity(Params& p, float s) {
   return I * s * s;
 }
 
-void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
+void readLight(Params& p, Scene& scene, LoadContext& ctx) {
   std::string type = p.getChoice("type", "", {"point", "spot", "directional", "environment"});
   float s = ctx.worldScale;
   if (type == "point") {
     Vec3 pos = p.requireVec3("position") * s;
-    scene.addLight(std::make_unique<PointLight>(pos, scaledIntensity(p, s)));
+    addLight(scene, ctx, p, "intensity", std::make_unique<PointLight>(pos, scaledIntensity(p, s)));
   } else if (type == "spot") {
     Vec3 pos = p.requireVec3("position") * s;
     Vec3 target = p.requireVec3("look_at") * s;
@@ -289,11 +323,11 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     float cone = p.getFloat("cone_angle", 30), start = p.getFloat("falloff_start", cone * 0.8f);
     if (!(cone > 0 && cone < 180)) p.fail("cone_angle", "must be in (0, 180) degrees");
     if (!(start >= 0 && start <= cone)) p.fail("falloff_start", "must be in [0, cone_angle]");
-    scene.addLight(std::make_unique<SpotLight>(pos, target - pos, scaledIntensity(p, s), cone, start));
+    addLight(scene, ctx, p, "intensity", std::make_unique<SpotLight>(pos, target - pos, scaledIntensity(p, s), cone, start));
   } else if (type == "directional") {
     Vec3 dir = p.requireVec3("direction");
     if (glm::length(dir) == 0) p.fail("direction", "must not be zero");
-    scene.addLight(std::make_unique<DirectionalLight>(dir, nonNegative(p, "irradiance", Color(1.f))));
+    addLight(scene, ctx, p, "irradiance", std::make_unique<DirectionalLight>(dir, nonNegative(p, "irradiance", Color(1.f))));
   } else if (p.has("file")) {
     // An HDR lat-long map (core/lights/environment_map_light.h).
     if (p.has("radiance")) p.fail("radiance", "give radiance (constant) or file (a map), not both");
@@ -308,11 +342,22 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
     } catch (const std::exception& e) {
       p.fail("file", e.what());
     }
-    for (const Color& c : map.pixels)
+    float brightest = 0;
+    for (const Color& c : map.pixels) {
       if (!(c.r >= 0 && c.g >= 0 && c.b >= 0 && std::isfinite(c.r + c.g + c.b)))
         p.fail("file", "the map has negative or non-finite texels");
+      brightest = std::max({brightest, c.r, c.g, c.b});
+    }
     float scale = p.getFloat("scale", 1.f);
     if (!(scale >= 0)) p.fail("scale", "must not be negative");
+    // The radiance a ray sees is texel × scale: a finite map and scale whose
+    // product overflows gave every sample NaN (issue 34).
+    if (!(double(brightest) * scale <= double(std::numeric_limits<float>::max()))) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg, "the brightest texel (%g) times scale (%g) is beyond a float's range",
+                    double(brightest), double(scale));
+      p.fail("scale", msg);
+    }
     // rotate_y (degrees about +y), or a 3×3 orthogonal `rotation`, row by row.
     Mat3 toWorld = Mat3(glm::rotate(Mat4(1.f), glm::radians(p.getFloat("rotate_y", 0.f)), Vec3(0, 1, 0)));
     if (p.has("rotation")) {
@@ -326,9 +371,10 @@ void readLight(Params& p, Scene& scene, const LoadContext& ctx) {
       if (!(worst < 1e-4f)) p.fail("rotation", "must be orthogonal (a rotation, possibly mirrored): RᵀR differs from I by " + std::to_string(worst));
     }
     bool importance = p.getChoice("sampling", "importance", {"importance", "uniform"}) == "importance";
-    scene.addLight(std::make_unique<EnvironmentMapLight>(std::move(map), scale, toWorld, importance));
+    addLight(scene, ctx, p, p.has("scale") ? "scale" : "file",
+             std::make_unique<EnvironmentMapLight>(std::move(map), scale, toWorld, importance));
   } else {
-    scene.addLight(std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
+    addLight(scene, ctx, p, "radiance", std::make_unique<EnvironmentLight>(nonNegative(p, "radiance", Color(1.f))));
   }
   p.checkUnused();
 }
@@ -410,6 +456,7 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
   p.checkUnused();
   out.degenerateTriangles = ctx.degenerateTriangles;
   scene.build(selection == "power" ? LightSelection::Power : LightSelection::Uniform);
+  checkLightPowers(ctx);
   return out;
 }
 

@@ -77,6 +77,15 @@ std::shared_ptr<const Texture> makeTexture(Params& p, const std::string& folder)
     t = std::make_shared<ImageTexture>(std::move(image), bilinear, m);
   } else {
     Color c0 = p.getColor("color0", Color(0.4f)), c1 = p.getColor("color1", Color(0.2f));
+    // A texture scales a reflectance (an albedo, a tint), so its values are
+    // held to an image texel's rule above: color1: -1 gave negative pixels
+    // while albedo: -1 was refused (issue 34). The upper bound is the
+    // material's (material_factory.cpp: value × albedo <= 1).
+    for (const char* key : {"color0", "color1"}) {
+      Color c = std::string(key) == "color0" ? c0 : c1;
+      if (!std::isfinite(c.r + c.g + c.b) || glm::any(glm::lessThan(c, Color(0.f))))
+        p.fail(key, "must not be negative (a texture scales a reflectance)");
+    }
     t = std::make_shared<CheckerboardTexture>(c0, c1, m);
   }
   p.checkUnused();

@@ -17,10 +17,11 @@ SppmSettings SppmSettings::read(Params& p) {
   s.alpha = p.getFloat("alpha", 0.7f,
                        {"fraction of new photons kept as the radius shrinks (Hachisuka & Jensen 2009, Eq. 6)",
                         Range::open(0, 1)});
+  // Bounded as VCM's radius is (integrators/vcm/vcm.cpp): π·r² must stay finite.
   s.initialRadius = p.getFloat("initial_radius", 0,
-                               {"first pass's gather radius in world units; 0: relative_radius", Range::atLeast(0)});
+                               {"first pass's gather radius in world units; 0: relative_radius", Range::between(0, 1e12)});
   s.relativeRadius = p.getFloat("relative_radius", 0.02f,
-                                {"first radius as a fraction of the scene's bounding radius", Range::above(0)});
+                                {"first radius as a fraction of the scene's bounding radius", Range::openClosed(0, 1)});
   s.maxDepth = p.getInt("max_depth", 32, {"longest path in segments, camera to light", Range::atLeast(0)});
   s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"},
                              "how visible points near a photon are found: a hash grid or FLANN's kd-tree") == "grid";

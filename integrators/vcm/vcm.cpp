@@ -21,10 +21,13 @@ VcmSettings VcmSettings::read(Params& p) {
   s.length = PathLength::read(p);
   std::string mis = p.getChoice("mis", "power", {"power", "balance"}, "MIS heuristic over all strategies");
   s.mis = mis == "power" ? bidir::MisWeighting::Power : bidir::MisWeighting::Balance;
+  // The bounds keep N·π·r² (the merging strategy's density, in float) finite
+  // for any film that fits in memory: radius=1e30 gave NaN samples and a
+  // black image (issue 34); a radius beyond the scene's is no radius at all.
   s.radius = p.getFloat("radius", 0,
-                        {"first pass's merging radius in world units; 0: relative_radius", Range::atLeast(0)});
+                        {"first pass's merging radius in world units; 0: relative_radius", Range::between(0, 1e12)});
   s.relativeRadius = p.getFloat("relative_radius", s.relativeRadius,
-                                {"first radius as a fraction of the scene's bounding radius", Range::above(0)});
+                                {"first radius as a fraction of the scene's bounding radius", Range::openClosed(0, 1)});
   s.alpha = p.getFloat("alpha", s.alpha,
                        {"radius after n passes: r1 n^((alpha-1)/2); 1 keeps it fixed (Georgiev et al. 2012, Eq. 16)",
                         Range::openClosed(0, 1)});

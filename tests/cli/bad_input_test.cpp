@@ -325,6 +325,50 @@ TEST_F(BadInput, IntensityOverflowingUnderWorldScale) {
   expectError(r, "s.yaml:6", "lights[0].intensity", "beyond a float's range");
 }
 
+// Issue 34, class 1: finite inputs whose derived quantities overflow a float
+// rendered black with "NaN/Inf samples: 0" (a light chosen with probability 0
+// or NaN) or every sample NaN. Each is refused naming the key it comes from;
+// the largest values that fit still render.
+TEST_F(BadInput, LightPowersAndScaledRadianceThatOverflowAreRefused) {
+  // A point light's power is 4π·I: 1e38 overflows, 1e37 fits.
+  expectError(render(write("p.yaml", scene("", "lights: [{type: point, position: [0, 3, 0], intensity: 1e38}]\n"))),
+              "p.yaml:5", "lights[0].intensity", "the light's power (its emitted flux) is beyond a float's range");
+  EXPECT_EQ(render(write("q.yaml", scene("", "lights: [{type: point, position: [0, 3, 0], intensity: 1e37}]\n"))).exitCode, 0);
+  fs::remove_all(dir_ / "out");
+  // A constant environment's is 4π²r²·L over the scene's bounding sphere.
+  expectError(render(write("e.yaml", scene("", "lights: [{type: environment, radiance: 1e38}]\n"))), "e.yaml:5",
+              "lights[0].radiance", "beyond a float's range");
+  // An emitting shape's is π·L·area.
+  expectError(render(write("a.yaml", scene("  - {type: sphere, radius: 1, emission: 1e38}"))), "a.yaml:7",
+              "shapes[1].emission", "the emitter's power (π × radiance × area) is beyond a float's range");
+  // A map's texel times its scale is the radiance a ray sees.
+  lb::Image sky(4, 2);
+  for (lb::Color& c : sky.pixels) c = lb::Color(1e30f);
+  lb::writeExr((dir_ / "sky.exr").string(), sky);
+  expectError(render(write("m.yaml", scene("", "lights: [{type: environment, file: sky.exr, scale: 1e30}]\n"))),
+              "m.yaml:5", "lights[0].scale", "the brightest texel (1e+30) times scale (1e+30) is beyond a float's range");
+  // A merging radius whose N·π·r² overflows.
+  std::string box = write("b.yaml", scene(""));
+  for (const char* set : {"--integrator vcm --set radius=1e30", "--integrator sppm --set initial_radius=1e30",
+                          "--integrator vcm --set relative_radius=2"}) {
+    RunResult r = run("render " + box + " -q --spp 1 " + set + " -o " + (dir_ / "out" / "v.exr").string());
+    EXPECT_EQ(r.exitCode, 2) << set << ": " << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out" / "v.exr")) << set;
+  }
+}
+
+// Issue 34, class 2: a texture scales a reflectance, so a negative texture
+// value is refused as a negative albedo is (it gave negative pixels).
+TEST_F(BadInput, NegativeTextureValuesAreRefused) {
+  for (const char* texture : {"{type: checkerboard, color1: -1}", "{type: checkerboard, color0: [0.5, -0.1, 0.5]}"}) {
+    std::string text = scene("");
+    text.replace(text.find("{type: diffuse, albedo: 0.7}"), 28,
+                 std::string("{type: diffuse, albedo: 1, texture: ") + texture + "}");
+    expectError(render(write("t.yaml", text)), "t.yaml:4", "materials.white.texture.color",
+                "must not be negative (a texture scales a reflectance)");
+  }
+}
+
 // A 100 MB YAML file used to end in std::bad_alloc after ~50 s; anything over
 // the limit is refused from its size, before parsing.
 TEST_F(BadInput, YamlFileTooLargeIsRefusedBeforeParsing) {
