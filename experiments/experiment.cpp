@@ -10,10 +10,6 @@ namespace lb {
 
 namespace {
 
-// The longest budget anything in an experiment may ask for (a reference's
-// or a run's seconds): a typo of 1e30 runs forever otherwise (issue 34).
-constexpr double kMaxBudgetSeconds = 30 * 24 * 3600.0;
-
 bool integratorUnbiased(const std::string& name, const YAML::Node& params) {
   for (const auto& e : integratorRegistry())
     if (e.name == name) return e.unbiased(params);

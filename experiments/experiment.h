@@ -13,6 +13,10 @@
 
 namespace lb {
 
+// The longest time budget anything may ask for: an experiment's or a
+// reference's seconds, `render --time`. A typo of 1e30 ran forever (issue 34).
+inline constexpr double kMaxBudgetSeconds = 30 * 24 * 3600.0;
+
 // Where a key was written, for checks that need more than the experiment file
 // (a reference's size needs the scene loaded): their errors name it too.
 struct KeyLocation {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 #include "core/params.h"
 
 namespace lb {
@@ -81,11 +82,9 @@ std::shared_ptr<const Texture> makeTexture(Params& p, const std::string& folder)
     // held to an image texel's rule above: color1: -1 gave negative pixels
     // while albedo: -1 was refused (issue 34). The upper bound is the
     // material's (material_factory.cpp: value × albedo <= 1).
-    for (const char* key : {"color0", "color1"}) {
-      Color c = std::string(key) == "color0" ? c0 : c1;
+    for (const auto& [key, c] : {std::pair{"color0", c0}, std::pair{"color1", c1}})
       if (!std::isfinite(c.r + c.g + c.b) || glm::any(glm::lessThan(c, Color(0.f))))
         p.fail(key, "must not be negative (a texture scales a reflectance)");
-    }
     t = std::make_shared<CheckerboardTexture>(c0, c1, m);
   }
   p.checkUnused();

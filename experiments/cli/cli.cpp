@@ -4,6 +4,7 @@
 #include <limits>
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
+#include "experiments/experiment.h"
 #include "core/error.h"
 #include "integrators/registry.h"
 
@@ -47,7 +48,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
                   ->check(unsignedInteger(1, "samples per pixel"));
   render->add_option("--time", r.seconds, "Time budget in seconds, preprocessing included")
       ->excludes(spp)
-      ->check(positiveFinite("seconds", 30 * 24 * 3600.0));  // 30 days, as an experiment's budget
+      ->check(positiveFinite("seconds", kMaxBudgetSeconds));
   render->add_option("--seed", r.seed, "Random seed; the same seed gives the same image bit for bit at any thread count")
       ->check(unsignedInteger(0, "random seed"));
   render->add_option("--threads", r.threads, "Worker threads (default: all cores)")
