@@ -24,4 +24,12 @@ std::vector<PdfMismatch> checkSubpathPdfs(const Scene& scene, const std::vector<
 // cannot produce the path (a delta vertex or a delta light at its connection).
 std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std::vector<Vertex>& fullPath);
 
+// The weights of mis.h computed by walking every vertex of both subpaths
+// (O(s + t); pbrt-v3 §16.3.4 with merges), from the stored densities alone.
+// Temporarily edits the connection vertices and restores them. Tests check
+// the O(1) techniqueWeights against it and against the from-definition oracle.
+TechniqueWeights techniqueWeightsByWalk(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
+                                        std::vector<Vertex>& light, std::vector<Vertex>& camera,
+                                        const Vertex& sampled, int s, int t, const Vertex* merged = nullptr);
+
 }  // namespace lb::bidir

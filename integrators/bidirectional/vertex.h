@@ -42,6 +42,10 @@ struct Vertex {
   const Light* light = nullptr;  // Light vertices (null for an escaped camera ray)
   bool infinite = false;  // a light at infinity (environment, directional) or an escaped ray
   Vec3 escapeDir{0.f};    // escaped camera ray: its direction
+  // MIS partial sums (mis.h, Eq. 3), filled by computePartialSums.
+  double misSum = 0;         // S_k: every technique connecting or merging at or before this vertex
+  bool misBaseZero = false;  // a zero forward density at or before this vertex
+  float neeOverEmit = 0;     // light subpath's y0 only: p_NEE(y0) / p_emit(y0) towards y1
 
   bool onSurface() const { return type == VertexType::Surface || (type == VertexType::Light && glm::dot(ng, ng) > 0); }
   bool isLight() const { return type == VertexType::Light || (type == VertexType::Surface && si.emitter); }

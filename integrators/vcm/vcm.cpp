@@ -79,6 +79,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     size_t pixel = size_t(y) * W + x;
     sampler.start(N + pixel, pass);
     int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
+    bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::Subpath::Light);
     if (settings_.connections())
       for (int s = 2; s <= n && s <= maxSeg; ++s) {  // t = 1: s segments
         bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, cameraEnd, s, 1, rays);
@@ -111,19 +112,16 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   //    with every light vertex within r.
   PassImage image(W, H);
   forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
-    thread_local std::vector<Vertex> camera, light, prefix;
+    thread_local std::vector<Vertex> camera;
     thread_local std::vector<std::pair<size_t, float>> found;
     camera.resize(cameraCapacity);
     size_t pixel = size_t(y) * W + x;
     sampler.start(pixel, pass);
     Vec2 raster = Vec2(x, y) + sampler.get2D();
     int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
-    // A copy: the weights edit vertices for a moment, and other pixels read
-    // this light subpath for their merges at the same time.
-    const std::vector<Vertex>& own = lightPaths_[pixel];
-    int nl = int(own.size());
-    light.assign(own.begin(), own.end());
-    light.resize(std::max<size_t>(1, own.size()));  // s = 1 needs a slot even without a light subpath
+    bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::Subpath::Camera);
+    const std::vector<Vertex>& light = lightPaths_[pixel];
+    int nl = int(light.size());
     Color L(0.f);
     auto add = [&](const Color& v) {
       if (isFinite(v)) L += v;
@@ -157,10 +155,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
         if (isBlack(f)) continue;
         // Shading normals: flux arrives per geometric area (photon_map.h).
         Color v = pt.beta * f * q.beta * float(mergeNorm * absDot(wl, pt.si.shading.n) / cosG);
-        if (weighted) {
-          prefix.assign(path.begin(), path.begin() + s);
-          v *= bidir::techniqueWeights(scene, settings_.mis, techniques, prefix, camera, Vertex{}, s, t, &q).mergeAtCamera;
-        }
+        if (weighted) v *= bidir::techniqueWeights(scene, settings_.mis, techniques, path, camera, Vertex{}, s, t, &q).mergeAtCamera;
         add(v);
       }
     };
