@@ -38,25 +38,32 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
   return connect(scene, sampler, mis, Techniques{}, light, camera, s, t, rays);
 }
 
+// Each strategy evaluates the BSDF once at each of its connection vertices:
+// the value f, and with it both directional densities the weight needs
+// (material.h: pdf towards the other subpath, pdfRev back along its own).
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
                    const std::vector<Vertex>& light, const std::vector<Vertex>& camera, int s, int t,
                    uint64_t& rays) {
   Connection c;
   // A camera path that escaped cannot be connected to anything.
   if (t > 1 && s != 0 && camera[size_t(t - 1)].type == VertexType::Light) return c;
-  Vertex sampled;
+  Vertex& sampled = c.sampled;
+  ConnectionDensities rev;
   if (s == 0) {
     const Vertex& pt = camera[size_t(t - 1)];
     if (pt.isLight()) c.L = pt.beta * emitted(scene, pt, camera[size_t(t - 2)]);
+    if (!isBlack(c.L)) rev = connectionDensities(scene, light, camera, sampled, s, t);
   } else if (t == 1) {
     const Vertex& qs = light[size_t(s - 1)];
     if (qs.connectible() && qs.type == VertexType::Surface) {
       if (auto cam = scene.camera.connect(qs.p)) {
         sampled = cameraVertex(scene.camera, Color(cam->We / cam->pdf));
-        c.L = qs.beta * vertexF(qs, sampled, TransportMode::Importance) * sampled.beta *
-              absDot(cam->wi, qs.shadingNormal());
+        BSDFEval e = BSDF(qs.si).eval(qs.si.wo, glm::normalize(sampled.p - qs.p), TransportMode::Importance);
+        c.L = qs.beta * e.f * sampled.beta * absDot(cam->wi, qs.shadingNormal());
         c.raster = cam->raster;
         if (!isBlack(c.L) && !visible(scene, qs, sampled, rays)) c.L = Color(0.f);
+        rev.qs = vertexPdf(scene, sampled, nullptr, qs);
+        if (s >= 2) rev.qsMinus = convertDensity(qs, e.pdfRev, light[size_t(s - 2)]);
       }
     }
   } else if (s == 1) {
@@ -71,21 +78,31 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
         if (ls && ls->pdf > 0 && !isBlack(ls->L)) {
           sampled = lightVertex(l, ls->p, ls->n, ls->pError, ls->L / (ls->pdf * pmf), 0);
           sampled.pdfFwd = pdfLightOrigin(scene, sampled, pt);
-          c.L = pt.beta * vertexF(pt, sampled, TransportMode::Radiance) * sampled.beta *
-                absDot(ls->wi, pt.shadingNormal());
+          BSDFEval e = BSDF(pt.si).eval(pt.si.wo, ls->wi, TransportMode::Radiance);
+          c.L = pt.beta * e.f * sampled.beta * absDot(ls->wi, pt.shadingNormal());
           if (!isBlack(c.L) && !visible(scene, pt, sampled, rays)) c.L = Color(0.f);
+          const Vertex& ptMinus = camera[size_t(t - 2)];
+          rev.pt = pdfLight(scene, sampled, pt);
+          rev.ptMinus = convertDensity(pt, e.pdfRev, ptMinus);
+          rev.qs = convertDensity(pt, e.pdf, sampled);
         }
       }
     }
   } else {
     const Vertex &qs = light[size_t(s - 1)], &pt = camera[size_t(t - 1)];
     if (qs.connectible() && pt.connectible() && qs.type == VertexType::Surface && pt.type == VertexType::Surface) {
-      c.L = qs.beta * vertexF(qs, pt, TransportMode::Importance) * vertexF(pt, qs, TransportMode::Radiance) * pt.beta;
+      Vec3 w = glm::normalize(qs.p - pt.p);  // pt → qs
+      BSDFEval ep = BSDF(pt.si).eval(pt.si.wo, w, TransportMode::Radiance);
+      BSDFEval eq = BSDF(qs.si).eval(qs.si.wo, -w, TransportMode::Importance);
+      c.L = qs.beta * eq.f * ep.f * pt.beta;
       if (!isBlack(c.L)) c.L *= geometry(scene, qs, pt, rays);
+      rev.pt = convertDensity(qs, eq.pdf, pt);
+      rev.ptMinus = convertDensity(pt, ep.pdfRev, camera[size_t(t - 2)]);
+      rev.qs = convertDensity(pt, ep.pdf, qs);
+      rev.qsMinus = convertDensity(qs, eq.pdfRev, light[size_t(s - 2)]);
     }
   }
-  c.weight = isBlack(c.L) ? 0.f : techniqueWeights(scene, mis, techniques, light, camera, sampled, s, t).connection;
-  if (s == 1 || t == 1) c.sampled = sampled;
+  c.weight = isBlack(c.L) ? 0.f : techniqueWeights(scene, mis, techniques, light, camera, sampled, s, t, rev).connection;
   return c;
 }
 

@@ -75,18 +75,51 @@ void computePartialSums(const Scene& scene, MisWeighting h, const Techniques& al
   }
 }
 
+namespace {
+// The connection's vertices; the freshly sampled endpoint replaces the
+// subpath's own for s = 1 / t = 1 (a merge keeps its emission-sampled y0).
+struct Ends {
+  const Vertex *qs, *pt, *qsMinus, *ptMinus;
+  Ends(const std::vector<Vertex>& light, const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+       const Vertex* merged)
+      : qs(s == 0 ? nullptr : s == 1 && !merged ? &sampled : &light[size_t(s - 1)]),
+        pt(t == 1 ? &sampled : &camera[size_t(t - 1)]),
+        qsMinus(s > 1 ? &light[size_t(s - 2)] : nullptr),
+        ptMinus(t > 1 ? &camera[size_t(t - 2)] : nullptr) {}
+};
+}  // namespace
+
+ConnectionDensities connectionDensities(const Scene& scene, const std::vector<Vertex>& light,
+                                        const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+                                        const Vertex* merged) {
+  Ends e(light, camera, sampled, s, t, merged);
+  ConnectionDensities d;
+  if (e.ptMinus)
+    d.pt = merged ? merged->pdfFwd
+                  : s > 0 ? vertexPdf(scene, *e.qs, e.qsMinus, *e.pt) : pdfLightOrigin(scene, *e.pt, *e.ptMinus);
+  if (t >= 3) d.ptMinus = s > 0 ? vertexPdf(scene, *e.pt, e.qs, *e.ptMinus) : pdfLight(scene, *e.pt, *e.ptMinus);
+  if (e.qs) d.qs = vertexPdf(scene, *e.pt, e.ptMinus, *e.qs);
+  if (e.qsMinus) d.qsMinus = merged ? e.qsMinus->pdfRev : vertexPdf(scene, *e.qs, e.pt, *e.qsMinus);
+  return d;
+}
+
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
                                   const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
                                   const Vertex& sampled, int s, int t, const Vertex* merged) {
+  if (s + t == 2) return {1.f, 0.f};
+  return techniqueWeights(scene, h, allowed, light, camera, sampled, s, t,
+                          connectionDensities(scene, light, camera, sampled, s, t, merged), merged);
+}
+
+TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
+                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  const Vertex& sampled, int s, int t, const ConnectionDensities& reverse,
+                                  const Vertex* merged) {
   // One segment (the camera sees a light): no other technique (BDPT skips
   // s = t = 1, and nothing lies between the two to merge).
   if (s + t == 2) return {1.f, 0.f};
-  // The connection's vertices; the freshly sampled endpoint replaces the
-  // subpath's own for s = 1 / t = 1 (a merge keeps its emission-sampled y0).
-  const Vertex* qs = s == 0 ? nullptr : s == 1 && !merged ? &sampled : &light[size_t(s - 1)];
-  const Vertex* pt = t == 1 ? &sampled : &camera[size_t(t - 1)];
-  const Vertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
-  const Vertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;
+  Ends e(light, camera, sampled, s, t, merged);
+  const Vertex *qs = e.qs, *pt = e.pt, *qsMinus = e.qsMinus, *ptMinus = e.ptMinus;
   const Vertex& y0 = s == 0 ? *pt : s == 1 ? *qs : light[0];
   const Vertex& y1 = s > 1 ? light[1] : s == 1 ? *pt : *ptMinus;
   double nee = s >= 2 ? double(light[0].neeOverEmit) : double(neeOverEmit(scene, y0, y1));
@@ -101,8 +134,7 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   // from z_{t-1} coming from the light side.
   double cameraSide = 0, mergeHere = 0;
   if (t >= 2) {
-    double revPt = merged ? merged->pdfFwd : s > 0 ? vertexPdf(scene, *qs, qsMinus, *pt) : pdfLightOrigin(scene, *pt, *ptMinus);
-    double r1 = rho(revPt, *pt);
+    double r1 = rho(reverse.pt, *pt);
     // The strategy that connects z_{t-2} and z_{t-1} has s + 1 light
     // vertices: next-event estimation when s = 0. A merge at z_{t-1} needs
     // it not to be the light's own point (s = 0).
@@ -110,10 +142,9 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
     double m1 = s > 0 ? terms.merge(*pt, false) : 0.0;
     double inner = 0;
     if (t >= 3) {
-      double revPtMinus = s > 0 ? vertexPdf(scene, *pt, qs, *ptMinus) : pdfLight(scene, *pt, *ptMinus);
       const Vertex& before = camera[size_t(t - 3)];
       zero |= before.misBaseZero;
-      inner = rho(revPtMinus, *ptMinus) * (terms.camera(*ptMinus, ptMinus->delta, before.delta) + before.misSum);
+      inner = rho(reverse.ptMinus, *ptMinus) * (terms.camera(*ptMinus, ptMinus->delta, before.delta) + before.misSum);
     }
     cameraSide = r1 * (a1 + m1 + inner);
     mergeHere = r1 * m1;
@@ -123,7 +154,7 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   // from y_{s-1} coming from the camera side (kept as cached for a merge).
   double lightSide = 0;
   if (s >= 1) {
-    double r1 = rho(vertexPdf(scene, *pt, ptMinus, *qs), *qs);
+    double r1 = rho(reverse.qs, *qs);
     bool qsDelta = merged ? qs->delta : false;  // a merge's light[s-1] keeps its flag (a caustic's glass)
     bool deltaBefore = s >= 2 ? qsMinus->delta : y0.isDeltaLight();
     double inner = 0;
@@ -131,11 +162,10 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
       inner = qsMinus->misSum;
       zero |= qsMinus->misBaseZero;
     } else if (s >= 2) {
-      double revQsMinus = vertexPdf(scene, *qs, pt, *qsMinus);
       bool deltaBefore2 = s >= 3 ? light[size_t(s - 3)].delta : light[0].isDeltaLight();
       double rest = 0;
       if (s >= 3) rest = light[size_t(s - 3)].misSum, zero |= light[size_t(s - 3)].misBaseZero;
-      inner = rho(revQsMinus, *qsMinus) * (terms.light(*qsMinus, s - 2, qsMinus->delta, deltaBefore2, nee) + rest);
+      inner = rho(reverse.qsMinus, *qsMinus) * (terms.light(*qsMinus, s - 2, qsMinus->delta, deltaBefore2, nee) + rest);
     }
     lightSide = r1 * (terms.light(*qs, s - 1, qsDelta, deltaBefore, nee) + inner);
   }

@@ -83,4 +83,19 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, co
                                   const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
                                   const Vertex& sampled, int s, int t, const Vertex* merged = nullptr);
 
+// The reverse densities a connection changes (the primes of Eqs. 4–5), in
+// area measure: z_{t-1} and z_{t-2} reached from the light side, y_{s-1} and
+// y_{s-2} from the camera side. connect() has them from the two BSDF
+// evaluations it makes anyway; this evaluates them from the vertices.
+struct ConnectionDensities {
+  float pt = 0, ptMinus = 0, qs = 0, qsMinus = 0;
+};
+ConnectionDensities connectionDensities(const Scene& scene, const std::vector<Vertex>& light,
+                                        const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+                                        const Vertex* merged = nullptr);
+TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
+                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  const Vertex& sampled, int s, int t, const ConnectionDensities& reverse,
+                                  const Vertex* merged = nullptr);
+
 }  // namespace lb::bidir
