@@ -43,8 +43,8 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
   const int maxSeg = length.maxSegments();
   int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays);
   int nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays);
-  computePartialSums(scene, mis, Techniques{}, buffers.camera, nCamera, Subpath::Camera);
-  computePartialSums(scene, mis, Techniques{}, buffers.light, nLight, Subpath::Light);
+  computePartialSums(scene, mis, Techniques{}, buffers.camera, nCamera, SubpathSide::Camera);
+  computePartialSums(scene, mis, Techniques{}, buffers.light, nLight, SubpathSide::Light);
   // s = 1 samples its own light point, so it runs even when the light
   // subpath is empty (emission sampling failed).
   for (int t = 1; t <= nCamera; ++t)

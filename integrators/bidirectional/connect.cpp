@@ -28,13 +28,13 @@ float geometry(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& r
 
 }  // namespace
 
-float misWeight(const Scene& scene, MisWeighting h, const std::vector<Vertex>& light,
-                const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t) {
+float misWeight(const Scene& scene, MisWeighting h, Subpath light,
+                Subpath camera, const Vertex& sampled, int s, int t) {
   return techniqueWeights(scene, h, Techniques{}, light, camera, sampled, s, t).connection;
 }
 
-Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const std::vector<Vertex>& light,
-                   const std::vector<Vertex>& camera, int s, int t, uint64_t& rays) {
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, Subpath light,
+                   Subpath camera, int s, int t, uint64_t& rays) {
   return connect(scene, sampler, mis, Techniques{}, light, camera, s, t, rays);
 }
 
@@ -42,7 +42,7 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
 // the value f, and with it both directional densities the weight needs
 // (material.h: pdf towards the other subpath, pdfRev back along its own).
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
-                   const std::vector<Vertex>& light, const std::vector<Vertex>& camera, int s, int t,
+                   Subpath light, Subpath camera, int s, int t,
                    uint64_t& rays) {
   Connection c;
   // A camera path that escaped cannot be connected to anything.

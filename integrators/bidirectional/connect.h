@@ -21,15 +21,15 @@ struct Connection {
 // The connection (s, t) and its MIS weight among `techniques` (default:
 // BDPT's, every connection and no merging).
 // Both subpaths carry partial sums (mis.h) for `techniques` and `mis`.
-Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const std::vector<Vertex>& light,
-                   const std::vector<Vertex>& camera, int sCount, int tCount, uint64_t& rays);
+Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, Subpath light,
+                   Subpath camera, int sCount, int tCount, uint64_t& rays);
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
-                   const std::vector<Vertex>& light, const std::vector<Vertex>& camera, int sCount, int tCount,
+                   Subpath light, Subpath camera, int sCount, int tCount,
                    uint64_t& rays);
 
 // BDPT's weight: techniqueWeights(..., Techniques{}, ...).connection.
 // (Both subpaths carry partial sums for Techniques{} and this heuristic.)
-float misWeight(const Scene& scene, MisWeighting heuristic, const std::vector<Vertex>& light,
-                const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t);
+float misWeight(const Scene& scene, MisWeighting heuristic, Subpath light,
+                Subpath camera, const Vertex& sampled, int s, int t);
 
 }  // namespace lb::bidir

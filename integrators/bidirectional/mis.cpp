@@ -49,12 +49,12 @@ float neeOverEmit(const Scene& scene, const Vertex& y0, const Vertex& y1) {
 }
 
 void computePartialSums(const Scene& scene, MisWeighting h, const Techniques& allowed, std::vector<Vertex>& path,
-                        int n, Subpath side) {
+                        int n, SubpathSide side) {
   if (n <= 0) return;
   Terms terms{h, allowed};
   double sum = 0;
   bool zero = false;
-  if (side == Subpath::Camera) {
+  if (side == SubpathSide::Camera) {
     path[0].misSum = 0, path[0].misBaseZero = false;  // S_0 = 0: the camera's own vertex is never a connection's far end
     for (int k = 1; k < n; ++k) {
       Vertex& v = path[size_t(k)];
@@ -80,7 +80,7 @@ namespace {
 // subpath's own for s = 1 / t = 1 (a merge keeps its emission-sampled y0).
 struct Ends {
   const Vertex *qs, *pt, *qsMinus, *ptMinus;
-  Ends(const std::vector<Vertex>& light, const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+  Ends(Subpath light, Subpath camera, const Vertex& sampled, int s, int t,
        const Vertex* merged)
       : qs(s == 0 ? nullptr : s == 1 && !merged ? &sampled : &light[size_t(s - 1)]),
         pt(t == 1 ? &sampled : &camera[size_t(t - 1)]),
@@ -89,8 +89,8 @@ struct Ends {
 };
 }  // namespace
 
-ConnectionDensities connectionDensities(const Scene& scene, const std::vector<Vertex>& light,
-                                        const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+ConnectionDensities connectionDensities(const Scene& scene, Subpath light,
+                                        Subpath camera, const Vertex& sampled, int s, int t,
                                         const Vertex* merged) {
   Ends e(light, camera, sampled, s, t, merged);
   ConnectionDensities d;
@@ -104,7 +104,7 @@ ConnectionDensities connectionDensities(const Scene& scene, const std::vector<Ve
 }
 
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
-                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  Subpath light, Subpath camera,
                                   const Vertex& sampled, int s, int t, const Vertex* merged) {
   if (s + t == 2) return {1.f, 0.f};
   return techniqueWeights(scene, h, allowed, light, camera, sampled, s, t,
@@ -112,7 +112,7 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
 }
 
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Techniques& allowed,
-                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  Subpath light, Subpath camera,
                                   const Vertex& sampled, int s, int t, const ConnectionDensities& reverse,
                                   const Vertex* merged) {
   // One segment (the camera sees a light): no other technique (BDPT skips

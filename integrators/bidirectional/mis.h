@@ -57,14 +57,14 @@ struct TechniqueWeights {
   float mergeAtCamera = 0;  // weight of merging light[0..s-1], extended to camera[t-1], at camera[t-1]
 };
 
-enum class Subpath { Camera, Light };
+enum class SubpathSide { Camera, Light };
 
 // Fills misSum (S_k of Eq. 3) and misBaseZero of path[0..n-1] (and, on a
 // light subpath, path[0].neeOverEmit) for these techniques and heuristic.
 // Call it once a subpath is sampled, and again after editing its densities;
 // the weights below read what it stored.
 void computePartialSums(const Scene& scene, MisWeighting h, const Techniques& allowed, std::vector<Vertex>& path,
-                        int n, Subpath side);
+                        int n, SubpathSide side);
 
 // p_NEE(y0) / p_emit(y0), the light endpoint y0 seen from y1 (0 when emission cannot sample it).
 float neeOverEmit(const Scene& scene, const Vertex& y0, const Vertex& y1);
@@ -80,7 +80,7 @@ float neeOverEmit(const Scene& scene, const Vertex& y0, const Vertex& y1);
 // vertex whose densities cannot be evaluated towards another point
 // (Georgiev's report stores the same quantities at the light vertex).
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
-                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  Subpath light, Subpath camera,
                                   const Vertex& sampled, int s, int t, const Vertex* merged = nullptr);
 
 // The reverse densities a connection changes (the primes of Eqs. 4–5), in
@@ -90,11 +90,11 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, co
 struct ConnectionDensities {
   float pt = 0, ptMinus = 0, qs = 0, qsMinus = 0;
 };
-ConnectionDensities connectionDensities(const Scene& scene, const std::vector<Vertex>& light,
-                                        const std::vector<Vertex>& camera, const Vertex& sampled, int s, int t,
+ConnectionDensities connectionDensities(const Scene& scene, Subpath light,
+                                        Subpath camera, const Vertex& sampled, int s, int t,
                                         const Vertex* merged = nullptr);
 TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
-                                  const std::vector<Vertex>& light, const std::vector<Vertex>& camera,
+                                  Subpath light, Subpath camera,
                                   const Vertex& sampled, int s, int t, const ConnectionDensities& reverse,
                                   const Vertex* merged = nullptr);
 

@@ -79,8 +79,8 @@ std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std
       weights.push_back(-1);
       continue;
     }
-    computePartialSums(scene, h, Techniques{}, camera, int(camera.size()), Subpath::Camera);
-    computePartialSums(scene, h, Techniques{}, light, int(light.size()), Subpath::Light);
+    computePartialSums(scene, h, Techniques{}, camera, int(camera.size()), SubpathSide::Camera);
+    computePartialSums(scene, h, Techniques{}, light, int(light.size()), SubpathSide::Light);
     Vertex sampled;
     if (s == 1) sampled = light[0];
     if (t == 1) sampled = camera[0];

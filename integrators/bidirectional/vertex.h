@@ -25,6 +25,7 @@
 //  * Russian roulette does not enter these pdfs: the weights of all strategies
 //    that can generate a path still sum to 1, which keeps every estimator
 //    unbiased (references.md, "BDPT bookkeeping"); roulette only reweights β.
+#include <vector>
 #include "core/bsdfs/bsdf.h"
 #include "core/scene.h"
 
@@ -54,6 +55,21 @@ struct Vertex {
   bool connectible() const;
   const Light* emitter() const { return type == VertexType::Light ? light : si.emitter; }
   Vec3 shadingNormal() const { return si.shading.n; }
+};
+
+// A subpath's vertices wherever they are stored: a vector of its own, or a
+// range of an iteration's light vertices (VCM keeps them in one array per
+// tile). Read-only: the MIS weights never edit a vertex (mis.h).
+class Subpath {
+ public:
+  Subpath(const std::vector<Vertex>& v) : data_(v.data()), size_(v.size()) {}  // NOLINT: implicit by design
+  Subpath(const Vertex* data, size_t size) : data_(data), size_(size) {}
+  const Vertex& operator[](size_t i) const { return data_[i]; }
+  size_t size() const { return size_; }
+
+ private:
+  const Vertex* data_;
+  size_t size_;
 };
 
 Vertex cameraVertex(const Camera& camera, const Color& beta);

@@ -75,8 +75,8 @@ void MultiplexedIntegrand::evaluate(PrimarySampleVector& u, std::vector<Contribu
   if (bidir::generateCameraSubpath(scene_, camera, length, raster, cameraPath, rays) < choice.t) return;
   // s = 1 samples its light point in connect(); s = 0 needs none.
   if (choice.s >= 2 && bidir::generateLightSubpath(scene_, light, length, lightPath, rays) < choice.s) return;
-  bidir::computePartialSums(scene_, mis_, {}, cameraPath, choice.t, bidir::Subpath::Camera);
-  if (choice.s >= 2) bidir::computePartialSums(scene_, mis_, {}, lightPath, choice.s, bidir::Subpath::Light);
+  bidir::computePartialSums(scene_, mis_, {}, cameraPath, choice.t, bidir::SubpathSide::Camera);
+  if (choice.s >= 2) bidir::computePartialSums(scene_, mis_, {}, lightPath, choice.s, bidir::SubpathSide::Light);
   bidir::Connection con = bidir::connect(scene_, connection, mis_, lightPath, cameraPath, choice.s, choice.t, rays);
   if (isBlack(con.L) || con.weight == 0) return;
   out.push_back({choice.t == 1 ? con.raster : raster, con.L * (con.weight / choice.probability)});

@@ -4,7 +4,7 @@
 #include "core/bsdfs/bsdf.h"
 #include "integrators/bidirectional/subpaths.h"
 #include "integrators/photon_map/photon_map.h"
-#include "integrators/photon_map/point_grid.h"
+#include "integrators/photon_map/hash_grid.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -31,7 +31,7 @@ VcmSettings VcmSettings::read(Params& p) {
   s.alpha = p.getFloat("alpha", s.alpha,
                        {"radius after n passes: r1 n^((alpha-1)/2); 1 keeps it fixed (Georgiev et al. 2012, Eq. 16)",
                         Range::openClosed(0, 1)});
-  s.gridLookup = p.getChoice("lookup", "flann", {"grid", "flann"},
+  s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"},
                              "how light vertices near a camera vertex are found: a hash grid or FLANN's kd-tree") == "grid";
   p.checkUnused();
   return s;
@@ -47,10 +47,10 @@ namespace {
 // A vertex photons can be merged at: a non-specular surface, not a light's own point.
 bool mergeable(const Vertex& v) { return v.type == VertexType::Surface && v.connectible(); }
 
-// A light vertex in the merging index: its light subpath (pixel) and place on it.
+// A light vertex in the merging index: its tile's array, where its light
+// subpath starts there, and its place on the subpath.
 struct LightVertexRef {
-  uint32_t path;
-  uint32_t index;
+  uint32_t tile, first, index;
 };
 
 }  // namespace
@@ -71,15 +71,23 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   Clock::time_point t0 = Clock::now();
   // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
   //    camera subpath; with connections, each vertex is joined to the camera.
-  lightPaths_.resize(N);
-  std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
+  //    Each tile appends its pixels' subpaths to one array of its own (no
+  //    vector per pixel, and the same layout whatever the thread count),
+  //    and lists the vertices photons can be merged at.
+  const size_t tiles = size_t(tileCount(W, H));
+  tileVertices_.resize(tiles);
+  lightSubpaths_.resize(N);
+  std::vector<std::vector<Splat>> splats(tiles);
+  std::vector<std::vector<Vec3>> tilePoints(tiles);
+  std::vector<std::vector<LightVertexRef>> tileRefs(tiles);
+  for (auto& v : tileVertices_) v.clear();
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
     thread_local std::vector<Vertex> light, cameraEnd(1);
     light.resize(lightCapacity);
     size_t pixel = size_t(y) * W + x;
     sampler.start(N + pixel, pass);
     int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
-    bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::Subpath::Light);
+    bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::SubpathSide::Light);
     if (settings_.connections())
       for (int s = 2; s <= n && s <= maxSeg; ++s) {  // t = 1: s segments
         bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, cameraEnd, s, 1, rays);
@@ -91,20 +99,28 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
         }
         splats[size_t(tile)].push_back({c.raster, v});
       }
-    lightPaths_[pixel].assign(light.begin(), light.begin() + n);
+    std::vector<Vertex>& stored = tileVertices_[size_t(tile)];
+    uint32_t first = uint32_t(stored.size());
+    stored.insert(stored.end(), light.begin(), light.begin() + n);
+    lightSubpaths_[pixel] = {uint32_t(tile), first, uint32_t(n)};
+    if (settings_.merging())
+      for (int j = 1; j < n; ++j)
+        if (mergeable(light[size_t(j)]))
+          tilePoints[size_t(tile)].push_back(light[size_t(j)].p), tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
   });
 
   Clock::time_point t1 = Clock::now();
-  // 2. The merging index over every light vertex photons can be merged at.
+  // 2. The merging index over every light vertex photons can be merged at,
+  //    in tile order.
   std::vector<Vec3> points;
   std::vector<LightVertexRef> refs;
-  if (settings_.merging())
-    for (size_t p = 0; p < N; ++p)
-      for (size_t j = 1; j < lightPaths_[p].size(); ++j)
-        if (mergeable(lightPaths_[p][j])) points.push_back(lightPaths_[p][j].p), refs.push_back({uint32_t(p), uint32_t(j)});
-  std::unique_ptr<PointGrid> grid;
+  for (size_t k = 0; k < tiles; ++k) {
+    points.insert(points.end(), tilePoints[k].begin(), tilePoints[k].end());
+    refs.insert(refs.end(), tileRefs[k].begin(), tileRefs[k].end());
+  }
+  std::unique_ptr<HashGrid> grid;
   std::unique_ptr<PointIndex> index;
-  if (settings_.merging() && settings_.gridLookup) grid = std::make_unique<PointGrid>(points, r);
+  if (settings_.merging() && settings_.gridLookup) grid = std::make_unique<HashGrid>(points, r);
   else if (settings_.merging()) index = std::make_unique<PointIndex>(points);
   Clock::time_point t2 = Clock::now();
 
@@ -119,9 +135,10 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     sampler.start(pixel, pass);
     Vec2 raster = Vec2(x, y) + sampler.get2D();
     int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
-    bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::Subpath::Camera);
-    const std::vector<Vertex>& light = lightPaths_[pixel];
-    int nl = int(light.size());
+    bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::SubpathSide::Camera);
+    const LightSubpathRef& own = lightSubpaths_[pixel];
+    bidir::Subpath light(tileVertices_[own.tile].data() + own.first, own.count);
+    int nl = int(own.count);
     Color L(0.f);
     auto add = [&](const Color& v) {
       if (isFinite(v)) L += v;
@@ -133,29 +150,39 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       const Vertex& pt = camera[size_t(t - 1)];
       found.clear();
       if (grid) {
-        for (uint32_t k : grid->candidates(pt.p))
-          if (float d2 = glm::dot(points[k] - pt.p, points[k] - pt.p); d2 < r * r) found.push_back({k, d2});  // strictly inside, as FLANN
+        grid->forEachWithin(pt.p, [&](uint32_t k, float d2) { found.push_back({k, d2}); });
       } else {
         index->radius(pt.p, r, found);
         // In index order, as the grid gives them: both lookups sum the same
         // merges in the same order, so they render the same image bit for bit.
         std::sort(found.begin(), found.end());
       }
+      BSDF bsdf(pt.si);
       for (const auto& [k, d2] : found) {
         const LightVertexRef& ref = refs[k];
         int s = int(ref.index);  // light vertices before the merged one
         if (s + t - 1 > maxSeg) continue;
-        const std::vector<Vertex>& path = lightPaths_[ref.path];
+        bidir::Subpath path(tileVertices_[ref.tile].data() + ref.first, size_t(s) + 1);
         const Vertex& q = path[ref.index];
         // The photon's incoming direction: towards the light subpath's previous vertex.
         Vec3 wl = q.si.wo;
         float cosG = absDot(wl, pt.ng);
         if (cosG == 0) continue;
-        Color f = BSDF(pt.si).eval(pt.si.wo, wl, TransportMode::Radiance).f;
-        if (isBlack(f)) continue;
+        BSDFEval e = bsdf.eval(pt.si.wo, wl, TransportMode::Radiance);
+        if (isBlack(e.f)) continue;
         // Shading normals: flux arrives per geometric area (photon_map.h).
-        Color v = pt.beta * f * q.beta * float(mergeNorm * absDot(wl, pt.si.shading.n) / cosG);
-        if (weighted) v *= bidir::techniqueWeights(scene, settings_.mis, techniques, path, camera, Vertex{}, s, t, &q).mergeAtCamera;
+        Color v = pt.beta * e.f * q.beta * float(mergeNorm * absDot(wl, pt.si.shading.n) / cosG);
+        if (weighted) {
+          // The camera vertex's densities towards the light subpath, along the
+          // photon's direction (Georgiev's report does the same), from the
+          // evaluation above; light[s-2]'s reverse density stays as cached.
+          bidir::ConnectionDensities rev;
+          rev.pt = q.pdfFwd;
+          if (t >= 3) rev.ptMinus = bidir::convertDensity(pt, e.pdfRev, camera[size_t(t - 2)]);
+          rev.qs = bidir::convertDensity(pt, e.pdf, path[size_t(s - 1)]);
+          if (s >= 2) rev.qsMinus = path[size_t(s - 2)].pdfRev;
+          v *= bidir::techniqueWeights(scene, settings_.mis, techniques, path, camera, Vertex{}, s, t, rev, &q).mergeAtCamera;
+        }
         add(v);
       }
     };

@@ -33,18 +33,15 @@
 //   radius           0       r_1 in world units; 0: relative_radius × the scene's bounding radius
 //   relative_radius  0.003   (SmallVCM's default)
 //   alpha            0.75    radius reduction, in (0, 1]
-//   lookup           flann   flann | grid: the merging range search, FLANN's
-//                            kd-tree or a uniform grid of cell size r
-//                            (photon_map/point_grid.h); the same merges in the
-//                            same order either way (a test checks the images
-//                            are identical). FLANN is faster: one iteration of
-//                            `vcm` on the Cornell box with spheres at 128²
-//                            took 57.6 ms against the grid's 81.9 ms (index
-//                            build 6.7 against 21.6 ms: the grid inserts each
-//                            vertex into 8+ cells, serially; merging 36 against
-//                            42 ms: a cell holds many vertices beyond r), bpm
-//                            30.3 against 54.0 ms, ppm 25.7 against 47.1 ms
-//                            (`lightbench_bench --benchmark_filter=VcmIteration`).
+//   lookup           grid    grid | flann: the merging range search, a hashed
+//                            uniform grid of cell size 2r built in parallel
+//                            (photon_map/hash_grid.h, as SmallVCM) or FLANN's
+//                            kd-tree; the same merges in the same order either
+//                            way (a test checks the images are identical). The
+//                            grid is the faster: its build took 1.2–1.5 ms per
+//                            iteration against FLANN's 7 ms (serial), on the
+//                            Cornell box with spheres at 128² (docs/results.md,
+//                            `lightbench_bench --benchmark_filter=VcmIteration`).
 #include <vector>
 #include "core/params.h"
 #include "integrators/bidirectional/connect.h"
@@ -61,7 +58,7 @@ struct VcmSettings {
   bidir::MisWeighting mis = bidir::MisWeighting::Power;
   float radius = 0, relativeRadius = 0.003f;
   float alpha = 0.75f;
-  bool gridLookup = false;
+  bool gridLookup = true;
   static VcmSettings read(Params& p);
   bool connections() const { return mode == VcmMode::Vcm || mode == VcmMode::Bpt; }
   bool merging() const { return mode != VcmMode::Bpt; }
@@ -91,7 +88,12 @@ class Vcm final : public Integrator {
 
  private:
   VcmSettings settings_;
-  std::vector<std::vector<bidir::Vertex>> lightPaths_;  // this pass's, one per pixel
+  // This pass's light subpaths: each tile's in one array, and where each pixel's is.
+  struct LightSubpathRef {
+    uint32_t tile, first, count;
+  };
+  std::vector<std::vector<bidir::Vertex>> tileVertices_;
+  std::vector<LightSubpathRef> lightSubpaths_;
   VcmTimings timings_;
 };
 

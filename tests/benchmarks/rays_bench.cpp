@@ -222,14 +222,14 @@ void VcmIteration(benchmark::State& state, const char* settings) {
   state.counters["index ms"] = 1e3 * t.index / n;
   state.counters["camera ms"] = 1e3 * t.cameraSubpaths / n;
 }
-// Modes with the default lookup (FLANN), then the merging modes with the grid.
+// Modes with the default lookup (the hash grid), then the merging modes with FLANN.
 BENCHMARK_CAPTURE(VcmIteration, vcm, "{mode: vcm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(VcmIteration, bpm, "{mode: bpm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(VcmIteration, ppm, "{mode: ppm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(VcmIteration, bpt, "{mode: bpt}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, vcm_grid, "{mode: vcm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpm_grid, "{mode: bpm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, ppm_grid, "{mode: ppm, lookup: grid}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, vcm_flann, "{mode: vcm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, bpm_flann, "{mode: bpm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(VcmIteration, ppm_flann, "{mode: ppm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);

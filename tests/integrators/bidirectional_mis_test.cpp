@@ -115,8 +115,8 @@ void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st) 
     sampler.start(i, 0);
     int nc = bidir::generateCameraSubpath(scene, sampler, settings.length, Vec2(sampler.get1D() * W, sampler.get1D() * H), camera, rays);
     int nl = bidir::generateLightSubpath(scene, sampler, settings.length, light, rays);
-    bidir::computePartialSums(scene, h, {}, camera, nc, bidir::Subpath::Camera);
-    bidir::computePartialSums(scene, h, {}, light, nl, bidir::Subpath::Light);
+    bidir::computePartialSums(scene, h, {}, camera, nc, bidir::SubpathSide::Camera);
+    bidir::computePartialSums(scene, h, {}, light, nl, bidir::SubpathSide::Light);
     for (int t = 1; t <= nc; ++t)
       for (int s = 0; s <= std::max(nl, 1); ++s) {
         if ((s == 1 && t == 1) || s + t < 3 || s + t - 1 > 8) continue;
@@ -207,8 +207,8 @@ void compareVcmOnScene(const Case& c, MisWeighting h, bidir::Techniques techniqu
     sampler.start(i, 0);
     int nc = bidir::generateCameraSubpath(scene, sampler, length, Vec2(sampler.get1D() * W, sampler.get1D() * H), camera, rays);
     int nl = bidir::generateLightSubpath(scene, sampler, length, light, rays);
-    bidir::computePartialSums(scene, h, techniques, camera, nc, bidir::Subpath::Camera);
-    bidir::computePartialSums(scene, h, techniques, light, nl, bidir::Subpath::Light);
+    bidir::computePartialSums(scene, h, techniques, camera, nc, bidir::SubpathSide::Camera);
+    bidir::computePartialSums(scene, h, techniques, light, nl, bidir::SubpathSide::Light);
     for (int t = 1; t <= nc; ++t)
       for (int s = 0; s <= std::max(nl, 1); ++s) {
         if ((s == 1 && t == 1) || s + t < 3 || s + t - 1 > 8) continue;
@@ -252,7 +252,7 @@ void compareVcmOnScene(const Case& c, MisWeighting h, bidir::Techniques techniqu
         x.pdfFwd = bidir::vertexPdf(scene, cam.back(), before, x);
         if (t >= 4) cam[size_t(t - 3)].pdfRev = bidir::vertexPdf(scene, cam[size_t(t - 2)], &x, cam[size_t(t - 3)]);
         cam.push_back(x);
-        bidir::computePartialSums(scene, h, techniques, cam, t, bidir::Subpath::Camera);  // densities edited above
+        bidir::computePartialSums(scene, h, techniques, cam, t, bidir::SubpathSide::Camera);  // densities edited above
         cam.resize(camera.size());
         std::vector<Vertex> path(cam.begin(), cam.begin() + t);
         for (int k = j - 1; k >= 0; --k) path.push_back(light[size_t(k)]);
