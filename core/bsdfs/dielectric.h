@@ -15,6 +15,7 @@ class SmoothDielectric final : public Material {
   std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2, TransportMode mode) const override;
   float pdf(const Vec3&, const Vec3&) const override { return 0; }
   uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
+  float relativeEta(const Vec3& wo) const override { return wo.z > 0 ? eta_ : 1 / eta_; }
 
  private:
   float eta_;

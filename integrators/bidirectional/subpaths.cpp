@@ -39,7 +39,9 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     // A delta lobe keeps its discrete probability as its density (vertex.h):
     // the next vertex's area density still carries |cos|/d² of this segment,
     // so that a specular chain's geometry cancels between strategies.
-    float pdfRev = bs->pdfRev;
+    // Through a smooth refraction the reverse density carries the Jacobian
+    // of the refraction map (vertex.h).
+    float pdfRev = reverseDirectionalDensity(si, *bs);
     pdfFwd = bs->pdf;
     v.delta = bs->isDelta();
     prev.pdfRev = convertDensity(v, pdfRev, prev);

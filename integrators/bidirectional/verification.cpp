@@ -7,7 +7,9 @@ namespace {
 // vertex the BSDF has no density to evaluate; its discrete lobe probability
 // (vertex.h) is found by sampling both lobes and keeping the one that leaves
 // towards `next`.
-float densityTowards(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next) {
+// `reverse`: v's successor on the subpath is `prev`, so through a refraction
+// the density carries the Jacobian of the direction v sampled (vertex.h).
+float densityTowards(const Scene& scene, const Vertex& v, const Vertex* prev, const Vertex& next, bool reverse) {
   if (!(v.type == VertexType::Surface && v.si.material && v.si.material->isDelta()))
     return vertexPdf(scene, v, prev, next);
   BSDF bsdf(v.si);
@@ -16,6 +18,7 @@ float densityTowards(const Scene& scene, const Vertex& v, const Vertex* prev, co
   for (float uLobe : {0.f, 0.999999f})
     if (auto bs = bsdf.sample(wo, uLobe, Vec2(0.5f), TransportMode::Radiance))
       if (float c = glm::dot(bs->wi, wn); c > best) best = c, pdf = bs->pdf;
+  if (reverse) pdf *= refractionJacobian(v.si, wn, wo);
   return convertDensity(v, pdf, next);
 }
 
@@ -26,8 +29,8 @@ void recompute(const Scene& scene, std::vector<Vertex>& sub, bool lightPath) {
     Vertex& v = sub[i];
     if (i == 0) v.pdfFwd = lightPath ? pdfLightOrigin(scene, v, n > 1 ? sub[1] : v) : 0.f;
     else if (i == 1 && lightPath) v.pdfFwd = pdfLight(scene, sub[0], v);
-    else v.pdfFwd = densityTowards(scene, sub[i - 1], i >= 2 ? &sub[i - 2] : nullptr, v);
-    v.pdfRev = i + 1 < n ? densityTowards(scene, sub[i + 1], i + 2 < n ? &sub[i + 2] : nullptr, v) : 0.f;
+    else v.pdfFwd = densityTowards(scene, sub[i - 1], i >= 2 ? &sub[i - 2] : nullptr, v, false);
+    v.pdfRev = i + 1 < n ? densityTowards(scene, sub[i + 1], i + 2 < n ? &sub[i + 2] : nullptr, v, true) : 0.f;
   }
 }
 

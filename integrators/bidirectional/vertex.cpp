@@ -50,6 +50,18 @@ Vertex escapedVertex(const Ray& ray, const Color& beta, float pdfSolidAngle) {
   return v;
 }
 
+float refractionJacobian(const SurfaceInteraction& si, const Vec3& wo, const Vec3& wi) {
+  const Vec3& n = si.shading.n;
+  float cosO = glm::dot(wo, n), cosI = glm::dot(wi, n);
+  if (cosO * cosI >= 0 || !si.material) return 1;  // same side: a reflection
+  float eta = si.material->relativeEta(si.shading.toLocal(wo));  // η_wi / η_wo
+  return std::abs(cosO) / (eta * eta * std::abs(cosI));
+}
+
+float reverseDirectionalDensity(const SurfaceInteraction& si, const ScatterSample& bs) {
+  return bs.isDelta() ? bs.pdfRev * refractionJacobian(si, si.wo, bs.wi) : bs.pdfRev;
+}
+
 float convertDensity(const Vertex& from, float pdf, const Vertex& to) {
   if (to.isInfiniteLight()) return pdf;  // densities at infinity stay per solid angle
   Vec3 w = to.p - from.p;

@@ -16,8 +16,19 @@
 //    0 here and read it as 1, dropping those conversions: through a chain
 //    L S S D E that over-weights the camera strategy by d01²/d23²·… — ~100×
 //    on a caustic.) Strategies that would connect at a delta vertex are
-//    skipped. Refraction's η² change of solid-angle measure is ignored, as in
-//    SmallVCM: it cancels on paths that enter and leave the same medium.
+//    skipped.
+//  * Except through refraction: the delta of a refracting vertex is a delta
+//    in the direction it sampled, and the strategies that cross the vertex
+//    the other way carry the delta of the other side, which differs by the
+//    refraction map's Jacobian (Veach 1997 §5.2, étendue η² cos θ dω kept):
+//        δ(ω_o − T(ω_i)) = δ(ω_i − T⁻¹(ω_o)) / |dω_o/dω_i|,
+//        |dω_o/dω_i| = (η_i² cos θ_i) / (η_o² cos θ_o)   (shading-normal cosines).
+//    So a reverse density through a smooth refraction is P · |dω_wi/dω_wo|
+//    (the walk's own wo, wi), its forward density P. Through a sphere the
+//    two interfaces' factors cancel on symmetric chords, which is why SmallVCM
+//    and pbrt drop them; through one flat interface (a water surface, a light
+//    under glass) they do not (up to ~1.8× at normal incidence for water's
+//    η² and without bound near grazing).
 //  * The light endpoint has two densities: emission sampling's (pdfFwd of a
 //    light subpath's first vertex) and next-event estimation's (s = 1, which
 //    samples a sphere's cone, not its area); misWeight uses each where it
@@ -77,6 +88,12 @@ Vertex lightVertex(const Light* light, const Vec3& p, const Vec3& n, const Vec3&
 Vertex surfaceVertex(const SurfaceInteraction& si, const Color& beta);
 Vertex escapedVertex(const Ray& ray, const Color& beta, float pdfSolidAngle);
 
+// |dω_wi / dω_wo| at a smooth refracting vertex crossed from wo towards wi,
+// 1 for a reflection (and for thin glass, which does not bend the ray).
+float refractionJacobian(const SurfaceInteraction& si, const Vec3& wo, const Vec3& wi);
+// The directional density of sampling bs's wo from its wi, in the measure of
+// the delta bs sampled: bs.pdfRev, times refractionJacobian for a delta lobe.
+float reverseDirectionalDensity(const SurfaceInteraction& si, const ScatterSample& bs);
 // Converts a solid-angle density at `from` towards `to` into area density at `to`.
 float convertDensity(const Vertex& from, float pdf, const Vertex& to);
 // BSDF (or camera) value at v for the directions to prev (where the subpath came

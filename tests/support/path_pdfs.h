@@ -11,7 +11,10 @@
 // with p(x_j | x_{j-1}, …) = p_σ(x_{j-1} → x_j) · |cos θ_j| / d² (no 1/d², and
 // no cosine, at infinity). At a specular vertex the directional density is a
 // delta; Veach's §8.2.2 factors it out of every strategy alike, so here it
-// counts as 1 (the lobe-selection probability is symmetric and cancels too).
+// counts as 1 (the lobe-selection probability is symmetric and cancels too),
+// measured in the direction the camera side samples it: a refraction sampled
+// from the light side carries the other side's delta, which differs by the
+// refraction map's Jacobian η² cos θ ratio (étendue; lightSideDelta in the .cpp).
 // The light endpoint y0 is sampled by emission (pdfLe: position, then
 // direction) for s ≥ 2 and by next-event estimation (pdfLi) for s = 1; delta
 // positions and directions of point, spot and directional lights count as 1,
