@@ -129,6 +129,8 @@ BENCHMARK_CAPTURE(Integrator, light_cornell, "light", "cornell-box")->Unit(bench
 BENCHMARK_CAPTURE(Integrator, bdpt_cornell, "bdpt", "cornell-box")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK_CAPTURE(Integrator, path_caustic, "path", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK_CAPTURE(Integrator, light_caustic, "light", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+// The same scene as VcmIteration: one pass (a sample per pixel) is a quarter of an iteration here.
+BENCHMARK_CAPTURE(Integrator, bdpt_cornell_spheres, "bdpt", "cornell-box-spheres")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK_CAPTURE(Integrator, bdpt_caustic, "bdpt", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 // Photon tracing throughput (the global map's photon paths) on the Cornell box.
