@@ -52,6 +52,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   PassImage image(W, H);
 
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
+    bidir::PhaseScope phase(bidir::Phase::CameraSubpaths);  // what the scopes within do not claim
     thread_local bidir::SubpathBuffers buffers;
     buffers.fit(settings_.length);
     sampler.start(uint64_t(y) * W + x, pass);

@@ -10,6 +10,7 @@
 #include <vector>
 #include "core/sampler.h"
 #include "integrators/bidirectional/connect.h"
+#include "integrators/bidirectional/cost_split.h"
 #include "integrators/bidirectional/subpaths.h"
 #include "integrators/path_length.h"
 
@@ -42,7 +43,11 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
                          OnStrategy&& onStrategy) {
   const int maxSeg = length.maxSegments();
   int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays);
-  int nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays);
+  int nLight;
+  {
+    PhaseScope phase(Phase::LightSubpaths);
+    nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays);
+  }
   computePartialSums(scene, mis, Techniques{}, buffers.camera, nCamera, SubpathSide::Camera);
   computePartialSums(scene, mis, Techniques{}, buffers.light, nLight, SubpathSide::Light);
   // s = 1 samples its own light point, so it runs even when the light

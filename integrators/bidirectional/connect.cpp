@@ -1,5 +1,6 @@
 // Connection strategies and their MIS weights (pbrt-v3 §16.3.3–16.3.4).
 #include "integrators/bidirectional/connect.h"
+#include "integrators/bidirectional/cost_split.h"
 
 namespace lb::bidir {
 
@@ -44,6 +45,7 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, Subpa
 Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const Techniques& techniques,
                    Subpath light, Subpath camera, int s, int t,
                    uint64_t& rays) {
+  PhaseScope phase(Phase::Connections);
   Connection c;
   // A camera path that escaped cannot be connected to anything.
   if (t > 1 && s != 0 && camera[size_t(t - 1)].type == VertexType::Light) return c;
@@ -52,7 +54,10 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
   if (s == 0) {
     const Vertex& pt = camera[size_t(t - 1)];
     if (pt.isLight()) c.L = pt.beta * emitted(scene, pt, camera[size_t(t - 2)]);
-    if (!isBlack(c.L)) rev = connectionDensities(scene, light, camera, sampled, s, t);
+    if (!isBlack(c.L)) {
+      PhaseScope weights(Phase::Weights);
+      rev = connectionDensities(scene, light, camera, sampled, s, t);
+    }
   } else if (t == 1) {
     const Vertex& qs = light[size_t(s - 1)];
     if (qs.connectible() && qs.type == VertexType::Surface) {

@@ -1,5 +1,6 @@
 // O(1) MIS weights from partial sums (mis.h, Eqs. 1–6).
 #include "integrators/bidirectional/mis.h"
+#include "integrators/bidirectional/cost_split.h"
 
 namespace lb::bidir {
 
@@ -51,6 +52,7 @@ float neeOverEmit(const Scene& scene, const Vertex& y0, const Vertex& y1) {
 void computePartialSums(const Scene& scene, MisWeighting h, const Techniques& allowed, std::vector<Vertex>& path,
                         int n, SubpathSide side) {
   if (n <= 0) return;
+  PhaseScope phase(Phase::Weights);
   Terms terms{h, allowed};
   double sum = 0;
   bool zero = false;
@@ -118,6 +120,7 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   // One segment (the camera sees a light): no other technique (BDPT skips
   // s = t = 1, and nothing lies between the two to merge).
   if (s + t == 2) return {1.f, 0.f};
+  PhaseScope phase(Phase::Weights);
   Ends e(light, camera, sampled, s, t, merged);
   const Vertex *qs = e.qs, *pt = e.pt, *qsMinus = e.qsMinus, *ptMinus = e.ptMinus;
   const Vertex& y0 = s == 0 ? *pt : s == 1 ? *qs : light[0];

@@ -2,10 +2,12 @@
 #include <chrono>
 #include <cmath>
 #include "core/bsdfs/bsdf.h"
+#include "integrators/bidirectional/cost_split.h"
 #include "integrators/bidirectional/subpaths.h"
 #include "integrators/photon_map/photon_map.h"
 #include "integrators/photon_map/hash_grid.h"
 #include "integrators/pixel_tiles.h"
+#include <tbb/task_arena.h>
 
 namespace lb {
 
@@ -66,9 +68,6 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
   const size_t lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
 
-  using Clock = std::chrono::steady_clock;
-  auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
-  Clock::time_point t0 = Clock::now();
   // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
   //    camera subpath; with connections, each vertex is joined to the camera.
   //    Each tile appends its pixels' subpaths to one array of its own (no
@@ -82,6 +81,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   std::vector<std::vector<LightVertexRef>> tileRefs(tiles);
   for (auto& v : tileVertices_) v.clear();
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
+    bidir::PhaseScope phase(bidir::Phase::LightSubpaths);
     thread_local std::vector<Vertex> light, cameraEnd(1);
     light.resize(lightCapacity);
     size_t pixel = size_t(y) * W + x;
@@ -109,9 +109,10 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
           tilePoints[size_t(tile)].push_back(light[size_t(j)].p), tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
   });
 
-  Clock::time_point t1 = Clock::now();
   // 2. The merging index over every light vertex photons can be merged at,
   //    in tile order.
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point indexStart = Clock::now();
   std::vector<Vec3> points;
   std::vector<LightVertexRef> refs;
   for (size_t k = 0; k < tiles; ++k) {
@@ -122,12 +123,14 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   std::unique_ptr<PointIndex> index;
   if (settings_.merging() && settings_.gridLookup) grid = std::make_unique<HashGrid>(points, r);
   else if (settings_.merging()) index = std::make_unique<PointIndex>(points);
-  Clock::time_point t2 = Clock::now();
+  bidir::CostSplit::charge(bidir::Phase::Index, std::chrono::duration<double>(Clock::now() - indexStart).count() *
+                                                   tbb::this_task_arena::max_concurrency());
 
   // 3. Camera subpaths: connections to the pixel's own light subpath, merges
   //    with every light vertex within r.
   PassImage image(W, H);
   forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
+    bidir::PhaseScope phase(bidir::Phase::CameraSubpaths);
     thread_local std::vector<Vertex> camera;
     thread_local std::vector<std::pair<size_t, float>> found;
     camera.resize(cameraCapacity);
@@ -147,6 +150,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     // Merging camera[t-1] with every light vertex within r; weight 1 in ppm
     // mode (the only technique there).
     auto mergeAt = [&](int t, bool weighted) {
+      bidir::PhaseScope merging(bidir::Phase::Merges);
       const Vertex& pt = camera[size_t(t - 1)];
       found.clear();
       if (grid) {
@@ -215,8 +219,6 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums
     for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);
   film.addPass(image);
-  Clock::time_point t3 = Clock::now();
-  timings_.lightSubpaths += seconds(t0, t1), timings_.index += seconds(t1, t2), timings_.cameraSubpaths += seconds(t2, t3);
 }
 
 }  // namespace lb

@@ -64,13 +64,6 @@ struct VcmSettings {
   bool merging() const { return mode != VcmMode::Bpt; }
 };
 
-// Wall-clock seconds of each phase, summed over passes (the benchmark's cost split).
-struct VcmTimings {
-  double lightSubpaths = 0;  // tracing light subpaths and their connections to the camera
-  double index = 0;          // building the merging index
-  double cameraSubpaths = 0; // camera subpaths with their connections and merges
-};
-
 class Vcm final : public Integrator {
  public:
   explicit Vcm(VcmSettings s) : settings_(s) {}
@@ -84,7 +77,6 @@ class Vcm final : public Integrator {
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   // The merging radius of iteration `pass` (0-based), r_1 · (pass + 1)^((α−1)/2).
   float radius(const Scene& scene, uint64_t pass) const;
-  const VcmTimings& timings() const { return timings_; }
 
  private:
   VcmSettings settings_;
@@ -94,7 +86,6 @@ class Vcm final : public Integrator {
   };
   std::vector<std::vector<bidir::Vertex>> tileVertices_;
   std::vector<LightSubpathRef> lightSubpaths_;
-  VcmTimings timings_;
 };
 
 }  // namespace lb

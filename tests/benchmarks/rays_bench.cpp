@@ -11,7 +11,6 @@
 #include "core/rng.h"
 #include "core/sampling.h"
 #include "integrators/registry.h"
-#include "integrators/vcm/vcm.h"
 #include "integrators/render_loop.h"
 #include "tests/support/render_helpers.h"
 
@@ -202,36 +201,6 @@ void SppmPass(benchmark::State& state, const char* lookup) {
 }
 BENCHMARK_CAPTURE(SppmPass, grid, "grid")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(SppmPass, flann, "flann")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-
-// VCM iterations (one light and one camera subpath per pixel, 128², the
-// Cornell box with spheres) per mode, and the split of their time: light
-// subpaths (with their camera connections), the merging index, camera
-// subpaths (connections and merges). bpt − vs vcm shows what merging costs.
-void VcmIteration(benchmark::State& state, const char* settings) {
-  static SceneFile sf = test::loadShippedScene("cornell-box-spheres", 128, 128);
-  Params params(YAML::Load(settings), "", "integrator");
-  Vcm vcm(VcmSettings::read(params));
-  Film film(128, 128);
-  auto sampler = makeSampler(sf.sampler, 1);
-  PassStats stats;
-  uint64_t pass = 0;
-  enableFlushToZeroOnAllThreads();
-  for (auto _ : state) vcm.renderPass(*sf.scene, film, *sampler, pass++, stats);
-  const VcmTimings& t = vcm.timings();
-  double n = double(std::max<uint64_t>(pass, 1));
-  state.counters["iterations/s"] = benchmark::Counter(double(pass), benchmark::Counter::kIsRate);
-  state.counters["light ms"] = 1e3 * t.lightSubpaths / n;
-  state.counters["index ms"] = 1e3 * t.index / n;
-  state.counters["camera ms"] = 1e3 * t.cameraSubpaths / n;
-}
-// Modes with the default lookup (the hash grid), then the merging modes with FLANN.
-BENCHMARK_CAPTURE(VcmIteration, vcm, "{mode: vcm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpm, "{mode: bpm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, ppm, "{mode: ppm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpt, "{mode: bpt}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, vcm_flann, "{mode: vcm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, bpm_flann, "{mode: bpm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
-BENCHMARK_CAPTURE(VcmIteration, ppm_flann, "{mode: ppm, lookup: flann}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
 BENCHMARK(PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK(IncoherentRays)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
