@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -35,6 +36,52 @@ constexpr uintmax_t kMaxXmlBytes = uintmax_t(64) << 20;
 
 bool isElement(pugi::xml_node n) { return n.type() == pugi::node_element; }
 
+// pugixml (Mitsuba 3's reader too) leaves an entity it does not know as
+// literal text and ends no value at a bare '&', where XML 1.0 (section 4.1)
+// makes both a fatal error. The raw text is scanned for them outside
+// comments, CDATA sections, processing instructions and the DOCTYPE.
+// Returns the offset of the first bad '&', or npos.
+size_t firstUndefinedEntity(const std::string& text) {
+  static const char* predefined[] = {"lt;", "gt;", "amp;", "apos;", "quot;"};
+  auto skipTo = [&](size_t i, const char* open, const char* close) {
+    if (text.compare(i, std::strlen(open), open) != 0) return i;
+    size_t end = text.find(close, i + std::strlen(open));
+    return end == std::string::npos ? text.size() : end + std::strlen(close);
+  };
+  for (size_t i = 0; i < text.size();) {
+    if (text[i] == '<') {
+      size_t j = skipTo(i, "<!--", "-->");
+      if (j == i) j = skipTo(i, "<![CDATA[", "]]>");
+      if (j == i) j = skipTo(i, "<?", "?>");
+      if (j == i && text.compare(i, 9, "<!DOCTYPE") == 0) {
+        size_t bracket = text.find_first_of("[>", i);
+        j = bracket != std::string::npos && text[bracket] == '[' ? skipTo(bracket, "[", "]") : bracket;
+        j = j == std::string::npos ? text.size() : text.find('>', j);
+        j = j == std::string::npos ? text.size() : j + 1;
+      }
+      i = j == i ? i + 1 : j;
+      continue;
+    }
+    if (text[i] != '&') {
+      ++i;
+      continue;
+    }
+    bool known = false;
+    for (const char* name : predefined) known = known || text.compare(i + 1, std::strlen(name), name) == 0;
+    if (!known && i + 2 < text.size() && text[i + 1] == '#') {
+      size_t k = i + 2;
+      bool hex = text[k] == 'x';
+      if (hex) ++k;
+      size_t digits = k;
+      while (k < text.size() && (hex ? std::isxdigit(static_cast<unsigned char>(text[k])) : std::isdigit(static_cast<unsigned char>(text[k])))) ++k;
+      known = k > digits && k < text.size() && text[k] == ';';
+    }
+    if (!known) return i;
+    ++i;
+  }
+  return std::string::npos;
+}
+
 }  // namespace
 
 YAML::Node flowVec(const glm::dvec3& v) {
@@ -60,6 +107,24 @@ MitsubaImport Translator::run() {
   pugi::xml_node scene = doc.document_element();
   if (std::string(scene.name()) != "scene")
     throw ConfigError(xml_.path(), xml_.lineOf(scene), "", "expected a <scene> root element (a Mitsuba scene file)");
+  // pugixml takes a second root, and drops text after the first, without a
+  // word; XML allows one root and nothing but comments after it. Read again
+  // as a fragment, which keeps the top level's text, to find either.
+  pugi::xml_document fragment;
+  fragment.load_buffer(text_.data(), text_.size(), pugi::parse_default | pugi::parse_fragment, pugi::encoding_utf8);
+  pugi::xml_node first = fragment.find_child([](pugi::xml_node n) { return n.type() == pugi::node_element; });
+  for (pugi::xml_node top = first.next_sibling(); top; top = top.next_sibling())
+    if (top.type() == pugi::node_element || top.type() == pugi::node_pcdata || top.type() == pugi::node_cdata)
+      throw ConfigError(xml_.path(), xml_.lineOf(top), "",
+                        std::string("content after </scene>") + (isElement(top) ? " (a second root <" + std::string(top.name()) + ">)" : "") +
+                            ": an XML file has one root element");
+  if (size_t bad = firstUndefinedEntity(text_); bad != std::string::npos) {
+    size_t end = text_.find_first_of("; \t\n<&\"'", bad + 1);
+    std::string ref = text_.substr(bad, end != std::string::npos && text_[end] == ';' ? end - bad + 1 : 1);
+    throw ConfigError(xml_.path(), xml_.lineAt(ptrdiff_t(bad)), "",
+                      ref == "&" ? "a bare '&' (write it as &amp;)"
+                                 : "undefined entity '" + ref + "' (XML predefines only &lt; &gt; &amp; &apos; &quot;)");
+  }
 
   // <scene version="0.5.0"> or "3.0.0": below 2 the properties are camelCase.
   std::string version = scene.attribute("version").value();
@@ -191,7 +256,7 @@ void Translator::readShape(pugi::xml_node n) {
     return;
   }
   const std::string key = "shapes[" + std::to_string(shapes_.size()) + "]";
-  bool hasBsdf = false;
+  bool hasBsdf = false, emitterSeen = false;
   for (pugi::xml_node o : p.objects) {
     std::string tag = o.name();
     std::string material;
@@ -204,6 +269,8 @@ void Translator::readShape(pugi::xml_node n) {
     } else if (tag == "bsdf") {
       material = readBsdf(o);
     } else if (tag == "emitter") {
+      if (emitterSeen) xml_.fail(o, "", "a second emitter in one shape (a shape emits through one area emitter)");
+      emitterSeen = true;
       if (xml_.attr(o, "type") != "area") {
         xml_.warn(o, "only area emitters can be attached to a shape; dropped");
         continue;

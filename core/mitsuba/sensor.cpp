@@ -13,6 +13,8 @@ namespace lb::mitsuba {
 void Translator::readIntegrator(pugi::xml_node n) {
   static const std::map<std::string, std::string> names = {
       {"path", "path"}, {"ptracer", "light"}, {"bdpt", "bdpt"}, {"sppm", "sppm"}, {"photonmapper", "photon"}};
+  // Mitsuba 3 keeps the last <integrator>; a file holding two is a mistake to name, not to guess at.
+  if (integratorSeen_) xml_.fail(n, "", "a second <integrator>: a scene has one");
   std::string type = xml_.attr(n, "type");
   Props p(xml_, n);
   integratorSeen_ = true;

@@ -254,6 +254,9 @@ glm::dmat4 Props::getTransform(const std::string& name) {
       std::vector<double> v = xml_.numbers(op, "value");
       if (v.size() != 16 && v.size() != 9) xml_.fail(op, "value", "expected 16 (or 9) numbers, row by row");
       int n = v.size() == 16 ? 4 : 3;
+      // A projective last row would be read as affine by whatever consumes it (the camera did).
+      if (n == 4 && (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1))
+        xml_.fail(op, "value", "the last row must be 0 0 0 1 (an affine transform)");
       for (int row = 0; row < n; ++row)
         for (int col = 0; col < n; ++col) step[col][row] = v[size_t(row * n + col)];
     } else if (tag == "translate" || tag == "scale") {

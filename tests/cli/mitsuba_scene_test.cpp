@@ -42,5 +42,71 @@ TEST_F(BadInput, MitsubaUnknownReferenceIsOneLineWithFileAndLine) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+
+// Issue 34, class 3: XML that Mitsuba's reader (pugixml) would take in some
+// form, refused with one line at its line; and class 8: a refused scene gets
+// that one line, not the import warnings first.
+std::string xmlScene(const std::string& body, const std::string& after = "") {
+  return "<scene version=\"3.0.0\">\n"
+         "<sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/>"
+         "<integer name=\"height\" value=\"8\"/><rfilter type=\"box\"/></film></sensor>\n"
+         "<integrator type=\"path\"><integer name=\"max_depth\" value=\"4\"/></integrator>\n" +
+         body + "</scene>\n" + after;
+}
+const std::string kLitSphere =
+    "<shape type=\"sphere\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n";
+
+TEST_F(BadInput, MitsubaValidSceneOfTheseTestsRenders) {
+  RunResult r = render(write("ok.xml", xmlScene(kLitSphere)));
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
+TEST_F(BadInput, MitsubaContentAfterTheSceneIsRefused) {
+  // The second root held the light, silently dropped.
+  expectError(render(write("two.xml", xmlScene("", "<scene version=\"3.0.0\">" + kLitSphere + "</scene>\n"))),
+              "two.xml:5:", "", "content after </scene> (a second root <scene>)");
+  fs::remove_all(dir_ / "out");
+  expectError(render(write("text.xml", xmlScene(kLitSphere, "trailing words\n"))), "text.xml:", "", "content after </scene>");
+}
+
+TEST_F(BadInput, MitsubaUndefinedEntityIsRefused) {
+  std::string shape = "<shape type=\"obj\">\n<string name=\"filename\" value=\"&mesh;.obj\"/></shape>\n";
+  expectError(render(write("ent.xml", xmlScene(kLitSphere + shape))), "ent.xml:6:", "", "undefined entity '&mesh;'");
+  fs::remove_all(dir_ / "out");
+  std::string bare = "<shape type=\"obj\">\n<string name=\"filename\" value=\"a&b.obj\"/></shape>\n";
+  expectError(render(write("amp.xml", xmlScene(kLitSphere + bare))), "amp.xml:6:", "", "a bare '&'");
+  // The predefined ones, numeric references and anything in a comment are fine.
+  fs::remove_all(dir_ / "out");
+  RunResult ok = render(write("fine.xml", xmlScene("<!-- &nbsp; -->\n<default name=\"x\" value=\"&lt;&#65;&#x42;\"/>\n" + kLitSphere)));
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
+TEST_F(BadInput, MitsubaProjectiveSensorMatrixIsRefused) {
+  std::string f = write("proj.xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n"
+                                    "<transform name=\"to_world\"><matrix value=\"1 0 0 0  0 1 0 1  0 0 1 4  0 0 1 1\"/></transform>\n"
+                                    "</sensor>\n" + kLitSphere + "</scene>\n");
+  expectError(render(f), "proj.xml:3:", "<matrix>.value", "the last row must be 0 0 0 1");
+}
+
+TEST_F(BadInput, MitsubaTwoEmittersInOneShapeAreRefused) {
+  std::string shape = "<shape type=\"sphere\">\n<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter>\n"
+                      "<emitter type=\"area\"><rgb name=\"radiance\" value=\"2\"/></emitter></shape>\n";
+  expectError(render(write("em.xml", xmlScene(shape))), "em.xml:6:", "<emitter", "a second emitter in one shape");
+}
+
+TEST_F(BadInput, MitsubaSecondIntegratorIsRefused) {
+  std::string second = "<integrator type=\"bdpt\"/>\n";
+  expectError(render(write("int.xml", xmlScene(second + kLitSphere))), "int.xml:4:", "<integrator", "a second <integrator>");
+}
+
+TEST_F(BadInput, MitsubaRefusedSceneIsOneLineWithoutItsWarnings) {
+  // An unsupported element (a warning) before a missing environment map (the error).
+  std::string f = write("env.xml", xmlScene("<medium type=\"homogeneous\"/>\n<emitter type=\"envmap\"><string name=\"filename\" value=\"nope.exr\"/></emitter>\n"));
+  RunResult r = render(f);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("nope.exr"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace lb::testing
