@@ -25,8 +25,12 @@ size_t transformMesh(TriangleMesh& m, const Mat4& toWorld) {
   kept.reserve(m.triangles.size());
   for (size_t i = 0; i < m.triangles.size(); ++i) {
     const auto& t = m.triangles[i];
-    Vec3 e = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
-    if (!(glm::dot(e, e) > 0 && std::isfinite(glm::dot(e, e)))) continue;
+    // In double: a tiny (huge) triangle's squared area underflows (overflows)
+    // a float although its area, which is what the renderer holds, does not.
+    glm::dvec3 a(m.positions[t.x]), b(m.positions[t.y]), c(m.positions[t.z]);
+    glm::dvec3 e = glm::cross(b - a, c - a);
+    const float area = float(0.5 * std::sqrt(glm::dot(e, e)));  // what the renderer holds
+    if (!(area > 0 && std::isfinite(area))) continue;
     kept.push_back(t);
     if (!m.triangleGroups.empty()) keptGroups.push_back(m.triangleGroups[i]);
   }
@@ -108,7 +112,8 @@ MeshLoadResult loadMesh(const std::string& path, const Mat4& toWorld, bool smoot
   // Groups by position: OpenMesh adds the faces in file order, an n-gon as
   // n − 2 consecutive triangles. A face it refused (non-manifold, repeated
   // vertices) shifts every later one, so then the groups are not matched.
-  if (groups.names.size() > 1) {
+  // One named group is a group too (every face in it); only unnamed faces are none.
+  if (groups.names.size() > 1 || (groups.names.size() == 1 && !groups.names[0].empty())) {
     m.groupNames = groups.names;
     size_t expected = 0;
     for (int n : groups.faceVertices) expected += size_t(n - 2);

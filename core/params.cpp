@@ -153,6 +153,18 @@ std::vector<KeyDoc> describeKeys(const std::function<void(Params&)>& reader) {
   return p.docs_;
 }
 
+void Params::failMissing(const std::string& key) const {
+  // `texture: {fille: a.exr}` should not say only "'file' is required": the
+  // unread key nearest to the required one is named.
+  std::vector<std::string> unread;
+  if (!describing_ && node_ && node_.IsMap())
+    for (auto it = node_.begin(); it != node_.end(); ++it)
+      if (it->first.IsScalar() && !asked_.count(it->first.Scalar()) && it->first.Scalar() != key)
+        unread.push_back(it->first.Scalar());
+  std::string near = closestMatch(key, unread);
+  fail(key, near.empty() ? "is required" : "is required (is '" + near + "', given here, a misspelling of it?)");
+}
+
 float Params::getFloat(const std::string& key, float fallback, const KeySpec& spec) {
   document(key, "number", number(fallback), spec.allowed.empty() ? spec.range.text() : spec.allowed, spec.meaning);
   YAML::Node n = lookup(key);
@@ -161,7 +173,7 @@ float Params::getFloat(const std::string& key, float fallback, const KeySpec& sp
   return record(key, v);
 }
 float Params::requireFloat(const std::string& key) {
-  if (!has(key)) fail(key, "is required");
+  if (!has(key)) failMissing(key);
   return getFloat(key, 0);
 }
 
@@ -201,7 +213,7 @@ std::string Params::getString(const std::string& key, const std::string& fallbac
   return record(key, n.Scalar());
 }
 std::string Params::requireString(const std::string& key) {
-  if (!has(key)) fail(key, "is required");
+  if (!has(key)) failMissing(key);
   return getString(key, "");
 }
 
@@ -223,7 +235,7 @@ Vec3 Params::getVec3(const std::string& key, Vec3 fallback) {
   return recordVec3(key, n && !n.IsNull() ? toVec3(n, key, false) : fallback);
 }
 Vec3 Params::requireVec3(const std::string& key) {
-  if (!has(key)) fail(key, "is required");
+  if (!has(key)) failMissing(key);
   return getVec3(key, {});
 }
 Color Params::getColor(const std::string& key, Color fallback) {
@@ -231,7 +243,7 @@ Color Params::getColor(const std::string& key, Color fallback) {
   return recordVec3(key, n && !n.IsNull() ? toVec3(n, key, true) : fallback);
 }
 Color Params::requireColor(const std::string& key) {
-  if (!has(key)) fail(key, "is required");
+  if (!has(key)) failMissing(key);
   return getColor(key, {});
 }
 

@@ -111,6 +111,8 @@ class Params {
   float toFloat(const YAML::Node& n, const std::string& key) const;
   Vec3 toVec3(const YAML::Node& n, const std::string& key, bool allowScalar) const;
   std::string qualified(const std::string& key) const;
+  // A required key that is absent, or present misspelled: the misspelling named.
+  [[noreturn]] void failMissing(const std::string& key) const;
 
   YAML::Node node_;
   std::string file_, context_;

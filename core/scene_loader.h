@@ -53,12 +53,14 @@ SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtua
 // (with the estimate); checked for the scene's film and an experiment's
 // `resolution` before anything is allocated.
 std::string filmMemoryProblem(int width, int height);
-// "" if `s` can scale a scene, else why not. Transforms scale volumes by s³
-// and point and spot intensities by s²: s³ must stay a normal float (s in
-// about [2.3e-13, 7e12]); beyond, transforms cannot be inverted in float,
-// emitters have zero area, lights overflow to Inf or the image is silently
-// black. Checked where world_scale is given (scene key, --world-scale, an
-// experiment's world_scale), so the message names it.
+// "" if `s` can scale a scene, else why not: s must be in [1e-4, 1e6], the
+// scales at which every integrator's image is tested unchanged. Beyond them
+// (long before s³ leaves a float's range) rays, areas and intensities break:
+// transforms cannot be inverted in float, emitters have zero area, lights
+// overflow to Inf or Embree rejects the rays. Checked where world_scale is
+// given (scene key, --world-scale, an experiment's world_scale), so the
+// message names it.
+inline constexpr float kMinWorldScale = 1e-4f, kMaxWorldScale = 1e6f;
 std::string worldScaleProblem(double s);
 
 }  // namespace lb

@@ -255,7 +255,7 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   exp = readFile(text);
   exp.replace(exp.find("resolution: [1000000, 1000000]"), 30, "resolution: [8, 8]\n    world_scale: 1e30");
   std::ofstream(text) << exp;
-  expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is out of range");
+  expectRefused("exp.yaml:4: 'scenes[0].world_scale': 1e+30 is outside [1e-4, 1e6]");
   // Issue 34: budgets that run forever, and seeds that meta.json and the log
   // would disagree on (-1 against 2^64 - 1).
   for (const char* budget : {"{seconds: 1e30}", "{seconds: -1}"}) {
