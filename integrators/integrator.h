@@ -53,7 +53,8 @@ class Integrator {
   // camera samples, with nothing learned from a pass as a whole.
   virtual std::string adaptiveRefusal() const { return "it does not estimate each pixel from its own camera samples"; }
   // Re-runs one camera sample (pixel, sample index) for debugging, if the
-  // integrator estimates pixels one at a time.
+  // integrator estimates pixels one at a time (replaysSamples()).
+  virtual bool replaysSamples() const { return false; }
   virtual std::optional<Color> replaySample(const Scene&, const Sampler&, int /*x*/, int /*y*/, uint64_t /*sample*/) {
     return std::nullopt;
   }
@@ -75,6 +76,7 @@ class PixelIntegrator : public Integrator {
   void renderSamples(const Scene& scene, Film& even, const Sampler& evenPrototype, Film& odd,
                      const Sampler& oddPrototype, const std::vector<uint32_t>& count,
                      const std::vector<uint64_t>& first, PassStats& stats);
+  bool replaysSamples() const override { return true; }
   std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
 
  protected:

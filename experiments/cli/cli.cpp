@@ -1,11 +1,13 @@
 // Command-line front end (CLI11): `lightbench render`, `lightbench integrators`.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 #include <limits>
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
 #include "experiments/experiment.h"
 #include "core/error.h"
+#include "core/params.h"
 #include "integrators/registry.h"
 
 namespace lb {
@@ -45,20 +47,20 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   // Every value is checked as typed (flag_checks.h): 0, negative, NaN or
   // infinite budgets would render the default or forever.
   auto* spp = render->add_option("--spp", r.spp, "Samples per pixel (default 16 when no --time is given)")
-                  ->check(unsignedInteger(1, "samples per pixel"));
+                  ->check(renderFlagCheck("--spp"));
   render->add_option("--time", r.seconds, "Time budget in seconds, preprocessing included")
       ->excludes(spp)
-      ->check(positiveFinite("seconds", kMaxBudgetSeconds));
+      ->check(renderFlagCheck("--time"));
   render->add_option("--seed", r.seed, "Random seed; the same seed gives the same image bit for bit at any thread count")
-      ->check(unsignedInteger(0, "random seed"));
+      ->check(renderFlagCheck("--seed"));
   render->add_option("--threads", r.threads, "Worker threads (default: all cores)")
-      ->check(intInRange(0, std::numeric_limits<int>::max(), "worker threads, 0: all cores"));
+      ->check(renderFlagCheck("--threads"));
   render->add_option("-o,--output", r.output,
                      "Output: NAME.exr (default: <scene name>.exr; the PNG preview and NAME.config.yaml go beside it), "
                      "or NAME.png for the preview only")
       ->check(outputFileName());
   render->add_option("--resolution", r.resolution, "Film size WIDTHxHEIGHT, e.g. 640x480 (replaces the scene's film size)")
-      ->check(resolution());
+      ->check(renderFlagCheck("--resolution"));
   render->add_option("--aov", r.aovs, "Extra EXR layers, comma-separated: albedo, normal, depth (first hit), variance "
                                       "(of each pixel's estimate), spp (samples per pixel)")
       ->delimiter(',')
@@ -66,11 +68,11 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   render->add_option("--crop", r.crop,
                      "Render only pixels X0,Y0,X1,Y1 of the film ([X0, X1) x [Y0, Y1), after --resolution): the "
                      "output is that window, each pixel estimating what it does in the full render")
-      ->check(cropWindow());
+      ->check(renderFlagCheck("--crop"));
   render->add_option("--sampler", r.sampler, "Sampler type, replacing the scene's: independent, stratified, sobol, zsobol, halton")
       ->check(CLI::IsMember(std::vector<std::string>(std::begin(lb::SamplerTypes), std::end(lb::SamplerTypes))));
   render->add_option("--exposure", r.exposure, "Exposure of the PNG preview in stops (the EXR is never scaled)")
-      ->check(CLI::Range(-64.0, 64.0));
+      ->check(renderFlagCheck("--exposure"));
   render->add_option("--pixel", r.replayPixel, "Replay one sample: pixel X,Y (with --sample); prints its value, writes nothing")
       ->check(pixelCoordinates());
   render->add_option("--sample", r.replaySample, "Replay one sample: sample index (with --pixel)")
@@ -81,11 +83,11 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
       "the samples decides, the other (unbiased) half is the image");
   render->add_option("--adaptive-passes", r.adaptivePasses, "Uniform passes before adapting (default 8)")
       ->needs(adaptive)
-      ->check(intInRange(4, std::numeric_limits<int>::max(), "uniform passes, at least 4"));
+      ->check(renderFlagCheck("--adaptive-passes"));
   render->add_option("--adaptive-target", r.adaptiveTarget,
                      "Relative error at which a pixel gets no more samples (default 0: none; all there: stop early)")
       ->needs(adaptive)
-      ->check(CLI::NonNegativeNumber);
+      ->check(renderFlagCheck("--adaptive-target"));
   render->add_flag("-q,--quiet", r.quiet, "No progress line");
   auto* distributed = render->add_flag(
       "--distributed", r.distributed,
@@ -118,7 +120,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   verdictCmd->add_option("--rank-by", verdict.rankBy, "Rank by this metric: rmse, relmse, relmse_trimmed, rmse_crop, relmse_crop");
   verdictCmd->add_option("--baseline", verdict.baseline, "The label speed-ups are measured against");
   verdictCmd->add_option("--confidence", verdict.confidence, "Family-wise confidence of the rank groups and of the intervals (default: the run's)")
-      ->check(CLI::Range(0.5, 0.9999));
+      ->check(numberInRange(0.5, 0.9999, "family-wise confidence"));
   verdictCmd->add_flag("--no-report", verdict.noReport, "Only the verdict files, no report");
   verdictCmd->add_option("--python", verdict.python, "Interpreter for the report (default: $LIGHTBENCH_PYTHON, else /usr/bin/python3)");
 
@@ -148,6 +150,20 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
     if (e.get_exit_code() == 0) return app.exit(e);
     // One line, like every other bad input (CLI11's own exit() adds a second).
     std::string message = e.what();
+    // A mistyped subcommand ("rendr"): CLI11 says only that one is required.
+    if (argc > 1 && argv[1][0] != '-') {
+      std::vector<std::string> names;
+      std::string list;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        names.push_back(sub->get_name());
+        list += (list.empty() ? "" : ", ") + sub->get_name();
+      }
+      if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+        std::string hint = closestMatch(argv[1], names);
+        message = "unknown subcommand '" + std::string(argv[1]) + "'" +
+                  (hint.empty() ? "" : "; did you mean '" + hint + "'?") + " (subcommands: " + list + ")";
+      }
+    }
     for (char& c : message)
       if (c == '\n') c = ' ';
     std::cerr << "error: " << message << "\n";

@@ -41,6 +41,9 @@ struct RenderArgs {
   bool distributed = false;
   uint64_t chunkSpp = 16;
   Farm* farm = nullptr;  // under MPI with more than one rank
+  // Called on the rendering thread between passes (not timed); it may throw
+  // to stop the render: the Python package raises KeyboardInterrupt there.
+  std::function<void()> betweenPasses;
 };
 
 // The AOV names --aov accepts.
@@ -80,6 +83,9 @@ struct RunArgs {
   int threads = 0;     // per run (0: cores / jobs, or a node's cores / its worker ranks)
   bool mixedMachines = false;
   Farm* farm = nullptr;  // under MPI with more than one rank
+  // Called on the rendering thread between passes (not timed); it may throw
+  // to stop the render: the Python package raises KeyboardInterrupt there.
+  std::function<void()> betweenPasses;
 };
 int runExperimentCommand(const RunArgs& args);
 

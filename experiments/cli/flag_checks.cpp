@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
+#include "experiments/experiment.h"
 
 namespace lb {
 
@@ -68,6 +70,34 @@ CLI::Validator positiveFinite(const std::string& what, double maximum) {
         return std::string();
       },
       "> 0");
+}
+
+CLI::Validator numberInRange(double minimum, double maximum, const std::string& what) {
+  return CLI::Validator(
+      [=](std::string& text) {
+        char* end = nullptr;
+        double v = text.empty() ? 0 : std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !(v >= minimum && v <= maximum)) {
+          char rule[96];
+          std::snprintf(rule, sizeof rule, "must be a number in [%g, %g]", minimum, maximum);
+          return rule + (what.empty() ? std::string() : " (" + what + ")") + got(text);
+        }
+        return std::string();
+      },
+      "number");
+}
+
+CLI::Validator renderFlagCheck(const std::string& flag) {
+  if (flag == "--spp") return unsignedInteger(1, "samples per pixel");
+  if (flag == "--time") return positiveFinite("seconds", kMaxBudgetSeconds);
+  if (flag == "--seed") return unsignedInteger(0, "random seed");
+  if (flag == "--threads") return intInRange(0, std::numeric_limits<int>::max(), "worker threads, 0: all cores");
+  if (flag == "--resolution") return resolution();
+  if (flag == "--crop") return cropWindow();
+  if (flag == "--exposure") return numberInRange(-64, 64, "stops");
+  if (flag == "--adaptive-passes") return intInRange(4, std::numeric_limits<int>::max(), "uniform passes, at least 4");
+  if (flag == "--adaptive-target") return numberInRange(0, std::numeric_limits<double>::max(), "relative error, 0: none");
+  throw std::logic_error("renderFlagCheck: no check for " + flag);
 }
 
 bool parsePixel(const std::string& text, int& x, int& y) {

@@ -18,6 +18,14 @@ CLI::Validator intInRange(long long minimum, long long maximum, const std::strin
 // A number > 0 that is not NaN or infinite, at most `maximum`; `what` names
 // its unit (a time budget's maximum is 30 days: `--time 1e300` ran forever).
 CLI::Validator positiveFinite(const std::string& what, double maximum = std::numeric_limits<double>::max());
+// A number in [minimum, maximum]; NaN refused (CLI::Range and
+// CLI::NonNegativeNumber let it through: `--exposure nan` wrote a black PNG).
+CLI::Validator numberInRange(double minimum, double maximum, const std::string& what);
+// The check of one of `lightbench render`'s valued flags: --spp, --time,
+// --seed, --threads, --resolution, --crop, --exposure, --adaptive-passes,
+// --adaptive-target. The command line and the Python package's render()
+// (its arguments as the flags' text) go through these same checks.
+CLI::Validator renderFlagCheck(const std::string& flag);
 // "X,Y": two whole non-negative decimal numbers that fit an int.
 CLI::Validator pixelCoordinates();
 // The render's output: NAME.exr (the float image; the PNG preview and the

@@ -262,7 +262,9 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
     chunkMean = std::move(c.mean);
     rep.passes = c.passes, rep.seconds = c.seconds, rep.nonFinite = c.nonFinite, rep.rays = c.rays;
   } else {
-    rep = renderLoop(*job.sf.scene, *job.integrator, *job.film, job.sf.sampler, options);
+    std::function<void(const PassProgress&)> afterPass;
+    if (args.betweenPasses) afterPass = [&](const PassProgress&) { args.betweenPasses(); };
+    rep = renderLoop(*job.sf.scene, *job.integrator, *job.film, job.sf.sampler, options, afterPass);
   }
 
   YAML::Node resolved;
@@ -294,6 +296,13 @@ RenderedImage renderPrepared(Prepared& job, const RenderArgs& args) {
     resolved["adaptive"]["passes"] = args.adaptivePasses;
     resolved["adaptive"]["target_relative_error"] = args.adaptiveTarget;
     resolved["adaptive"]["converged"] = rep.converged;
+    // The first --adaptive-passes passes are uniform: a budget that ends
+    // within them rendered a plain image, which must not pass for an adaptive one.
+    const bool adapted = rep.passes > uint64_t(args.adaptivePasses);
+    resolved["adaptive"]["adapted"] = adapted;
+    if (!adapted)
+      warn("--adaptive: the render ended after " + std::to_string(rep.passes) + " pass(es), within its " +
+           std::to_string(args.adaptivePasses) + " uniform ones (--adaptive-passes): nothing adapted");
   }
   if (rep.budgetSeconds > 0) resolved["over_budget_seconds"] = rep.overBudgetSeconds();
   resolved["non_finite_samples"] = rep.nonFinite;
@@ -348,6 +357,9 @@ int render(const RenderArgs& args) {
   auto threads = limitThreads(args.threads);
 
   if (replay) {
+    if (!job.integrator->replaysSamples())
+      throw flagError("--pixel", "integrator '" + job.choice.name +
+                                     "' cannot replay single samples: it does not estimate pixels one camera sample at a time");
     const Camera& cam = job.sf.scene->camera;
     int x = -1, y = -1;
     if (!parsePixel(args.replayPixel, x, y) || x >= cam.width() || y >= cam.height())

@@ -76,6 +76,7 @@ class IrradianceCacheIntegrator final : public Integrator {
   std::vector<std::string> extraOutputPaths(const std::string& stem) const override {
     return settings_.recordImage ? std::vector<std::string>{stem + "_records.png"} : std::vector<std::string>{};
   }
+  bool replaysSamples() const override { return true; }
   std::optional<Color> replaySample(const Scene& scene, const Sampler& prototype, int x, int y, uint64_t sample) override;
 
   const IrradianceCache& cache() const { return *cache_; }

@@ -12,7 +12,10 @@ namespace lb {
 
 SppmSettings SppmSettings::read(Params& p) {
   SppmSettings s;
-  int photons = p.getInt("photons_per_pass", 100000, {"photon paths traced per pass", Range::atLeast(1)});
+  // A pass is the unit of progress, of snapshots and of a time budget: 1e8
+  // paths already take tens of seconds on two cores, and a pass's deposits
+  // grow with it, so beyond that a render goes silent for minutes.
+  int photons = p.getInt("photons_per_pass", 100000, {"photon paths traced per pass", Range::between(1, 1e8)});
   s.photonsPerPass = size_t(photons);
   s.alpha = p.getFloat("alpha", 0.7f,
                        {"fraction of new photons kept as the radius shrinks (Hachisuka & Jensen 2009, Eq. 6)",
