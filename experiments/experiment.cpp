@@ -328,11 +328,18 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     s.path = (std::filesystem::path(folder) / sp.requireString("scene")).lexically_normal().string();
     if (missing(s.path)) sp.fail("scene", "scene file not found: " + s.path + whyMissing(s.path));
     s.sceneAt = locate(sp, "scene");
-    s.name = sp.getString("name", std::filesystem::path(s.path).stem().string());
-    if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
-      sp.fail("name", "must be a non-empty file-name stem (no spaces or slashes)");
+    if (sp.has("name")) {
+      s.name = sp.getString("name", "");
+      if (s.name.empty() || s.name.find_first_of("/\\ ") != std::string::npos)
+        sp.fail("name", "must be a non-empty file-name stem (no spaces or slashes)");
+    } else {
+      // Derived from the file name, which may hold spaces ("my scene.yaml" → my-scene).
+      s.name = std::filesystem::path(s.path).stem().string();
+      std::replace_if(s.name.begin(), s.name.end(), [](char c) { return c == ' ' || c == '\\'; }, '-');
+      if (s.name.empty()) sp.fail("scene", "the file name has no stem to name the scene by: give it a `name`");
+    }
     for (const auto& other : e.scenes)
-      if (other.name == s.name) sp.fail("name", "two scenes are named '" + s.name + "': give one a `name`");
+      if (other.name == s.name) sp.fail(sp.has("name") ? "name" : "scene", "two scenes are named '" + s.name + "': give one a `name`");
     if (sp.has("world_scale")) {  // the run's scene scaled (camera, lights and radii too)
       float scale = sp.getFloat("world_scale", 1);
       if (std::string problem = worldScaleProblem(scale); !problem.empty()) sp.fail("world_scale", problem);

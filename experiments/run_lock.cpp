@@ -26,7 +26,11 @@ RunLock::RunLock(const std::string& runDir, const std::string& experimentFile, c
   // O_CLOEXEC: the report script run at the end must not inherit (and so
   // prolong) the lock.
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
+  // Before anything renders, so an unusable lock (a directory of that name,
+  // a read-only folder) is bad input: exit 2 and one line, not a late failure.
+  if (fd_ < 0)
+    throw ConfigError(experimentFile, 0, "", "cannot open the lock file " + path + ": " + std::strerror(errno) +
+                                                 (std::filesystem::is_directory(path) ? " (remove that directory)" : ""));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     int err = errno;
     std::string pid = holderPid(fd_);
@@ -35,7 +39,7 @@ RunLock::RunLock(const std::string& runDir, const std::string& experimentFile, c
       throw ConfigError(experimentFile, 0, "",
                         what + " " + runDir + " is in use by another lightbench process" +
                             (pid.empty() ? std::string() : " (pid " + pid + ")"));
-    throw std::runtime_error("cannot lock " + path + ": " + std::strerror(err));
+    throw ConfigError(experimentFile, 0, "", "cannot lock " + path + ": " + std::strerror(err));
   }
   // Only once locked: a refused process must not touch the file. The pid is
   // informative (for the message above), so a failed write is not an error.

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include "core/error.h"
 #include "core/image.h"
 
 namespace lb {
@@ -63,24 +64,41 @@ bool parseCsvLine(const std::string& line, std::vector<std::string>& out) {
   return !quoted;
 }
 
-LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) {
+std::vector<std::string> readResumableLog(const std::string& path, std::set<std::string>* completed) {
   std::vector<std::string> kept;
-  if (resume && std::filesystem::exists(path)) {
+  if (std::filesystem::exists(path)) {
     std::ifstream in(path);
     std::string line;
     std::vector<std::vector<std::string>> rows;
     // A log written by an older version has fewer columns: its rows are
     // carried over by column name, the new columns left empty.
     std::vector<std::string> header, f;
-    std::getline(in, line);
+    const bool empty = !std::getline(in, line);
     parseCsvLine(line, header);
     std::vector<int> from;  // for each current column, its index in the file (-1: absent)
     for (size_t c = 0; LogColumns[c]; ++c) {
       auto at = std::find(header.begin(), header.end(), LogColumns[c]);
       from.push_back(at == header.end() ? -1 : int(at - header.begin()));
     }
-    while (std::getline(in, line)) {
-      if (!parseCsvLine(line, f) || f.size() != header.size()) continue;  // a torn line
+    // A file that is not a log (overwritten, corrupted) must not be taken
+    // for an empty one and silently started again: every version's log
+    // has these columns, `final` last.
+    for (const char* column : {"scene", "label", "repeat", "final"})
+      if (!empty && std::find(header.begin(), header.end(), column) == header.end())
+        throw ConfigError(path, 1, "", std::string("not a lightbench log: its header has no '") + column +
+                                           "' column (move the file aside, or run without --resume)");
+    if (!empty && header.back() != "final")
+      throw ConfigError(path, 1, "", "not a lightbench log: its header does not end with 'final'");
+    // Only the last line may be torn (a run killed while writing it).
+    std::vector<std::string> lines;
+    while (std::getline(in, line)) lines.push_back(line);
+    for (size_t n = 0; n < lines.size(); ++n) {
+      const bool parsed = parseCsvLine(lines[n], f) && f.size() == header.size();
+      if (!parsed && n + 1 < lines.size())
+        throw ConfigError(path, int(n + 2), "",
+                          "a malformed row (" + std::to_string(f.size()) + " fields, the header has " +
+                              std::to_string(header.size()) + ") before the last line: the log is corrupt");
+      if (!parsed) continue;  // a torn last line
       std::vector<std::string> row;
       for (int i : from) row.push_back(i < 0 ? "" : f[size_t(i)]);
       std::string text;
@@ -94,6 +112,12 @@ LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>
       if (completed->count(runKey(rows[i][0], rows[i][1], rows[i][3]))) filtered.push_back(kept[i]);
     kept = filtered;
   }
+  return kept;
+}
+
+LogWriter::LogWriter(const std::string& path, bool resume, std::set<std::string>* completed) {
+  std::vector<std::string> kept;
+  if (resume) kept = readResumableLog(path, completed);
   std::string header;
   for (size_t i = 0; LogColumns[i]; ++i) header += (i ? "," : "") + std::string(LogColumns[i]);
   std::string content = header + "\n";

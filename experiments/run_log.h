@@ -29,6 +29,13 @@ std::string csvField(const std::string& s);
 // Splits one CSV line; false on a torn line.
 bool parseCsvLine(const std::string& line, std::vector<std::string>& out);
 
+// The rows of a log to resume (in today's columns) of the runs that
+// finished, and their keys; throws a ConfigError naming the file and line if
+// it is not a lightbench log or a row before the last is torn (only a kill
+// mid-write tears a line, and only the last). Writes nothing: the runner
+// calls it before anything else, so a refused resume is one line.
+std::vector<std::string> readResumableLog(const std::string& path, std::set<std::string>* completed);
+
 class LogWriter {
  public:
   // Starts the log at `path`; with `resume`, keeps the rows of the runs that

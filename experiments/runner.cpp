@@ -196,8 +196,11 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
                           "the experiment, its budget or its references changed since " + runDir.string() +
                               " was started; run without --resume to start a new run");
     }
-    // Before anything is rendered or rewritten: one writer per run folder.
+    // Before anything is rendered or rewritten: one writer per run folder,
+    // and a log that is one (a corrupt log.csv is refused, not restarted).
     lock.emplace(runDir.string(), e.file);
+    std::set<std::string> finished;
+    readResumableLog((runDir / "log.csv").string(), &finished);
   }
 
   // References (rendered with every core, or by every worker) before the run
@@ -493,17 +496,19 @@ int serveExperiment(const std::string& experimentFile, const ExperimentOptions& 
   const int threads = workerThreads(o.threads, farm.cluster());
   std::string identity;  // jobIdentity, as this rank reads the files
   const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
-  // mpirun binds each rank to one core by default when there are at most 2
-  // ranks: the rank then renders with the cores it may use, and says so.
-  int share = int(std::thread::hardware_concurrency()) / std::max(1, farm.cluster().workersOnThisNode());
-  if (threads < share)
-    std::fprintf(stderr, "%snote: may use %d of this node's %u cores (mpirun's binding), so its runs get %d thread(s); "
-                 "mpirun --bind-to none gives each of the node's %d worker rank(s) %d\n", me.c_str(), threads,
-                 std::thread::hardware_concurrency(), threads, farm.cluster().workersOnThisNode(), share);
   enableFlushToZeroOnAllThreads();
   tbb::task_arena arena(threads);
   return farm.serve([&](const std::string& bytes) {
     if (!e) {
+      // mpirun binds each rank to one core by default when there are at most
+      // 2 ranks: the rank then renders with the cores it may use, and says so
+      // at its first task, which comes only once rank 0 accepted the input (a
+      // refused one gets rank 0's one error line, and nothing after it).
+      int share = int(std::thread::hardware_concurrency()) / std::max(1, farm.cluster().workersOnThisNode());
+      if (threads < share)
+        std::fprintf(stderr, "%snote: may use %d of this node's %u cores (mpirun's binding), so its runs get %d thread(s); "
+                     "mpirun --bind-to none gives each of the node's %d worker rank(s) %d\n", me.c_str(), threads,
+                     std::thread::hardware_concurrency(), threads, farm.cluster().workersOnThisNode(), share);
       e = loadExperiment(experimentFile, eo);
       checked = validateExperiment(*e);
       env = makeRunEnvironment(*e, checked->scenes, thisMachine(threads));
