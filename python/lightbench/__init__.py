@@ -14,6 +14,7 @@ for bit. Bad input raises lightbench.ConfigError (a ValueError) with the same
 file:line: key message the program prints.
 """
 import json
+import numbers
 import os
 
 import math
@@ -41,6 +42,24 @@ class RenderedImage(np.ndarray):
         self.layers = getattr(obj, "layers", {})
 
 
+def _flag_text(value):
+    """A value as typed on the command line: an integer as its digits (numpy's
+    too), anything else as str() (2.5 -> "2.5", which a whole-number flag refuses)."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        return str(int(value))
+    return str(value)
+
+
+def _sequence(value, n, name):
+    try:
+        values = list(value)
+    except TypeError:
+        raise ConfigError(f"render(): {name}: expected {n} numbers, got {value!r}") from None
+    if len(values) != n:
+        raise ConfigError(f"render(): {name}: expected {n} numbers, got {len(values)}")
+    return values
+
+
 def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, threads=0, progress=False, aovs=(),
            resolution=None, crop=None):
     """Renders `scene` (a YAML scene or a Mitsuba .xml) and returns a RenderedImage.
@@ -58,18 +77,27 @@ def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, 
     """
     if spp is not None and seconds is not None:
         raise ValueError("give spp or seconds, not both")
-    if spp is not None and (int(spp) != spp or spp < 1):
-        raise ValueError(f"spp must be a whole number >= 1, got {spp!r}")
-    if seconds is not None and not (math.isfinite(seconds) and seconds > 0):
-        raise ValueError(f"seconds must be positive and finite, got {seconds!r}")
+    # Each argument as the command line would carry it, checked by that
+    # flag's own check (experiments/cli/flag_checks.h): 2.5, -1 or nan are
+    # refused as `--seed 2.5` is, never truncated or wrapped around.
+    checks = [("--spp", spp, "spp"), ("--time", seconds, "seconds"), ("--seed", seed, "seed"),
+              ("--threads", threads, "threads")]
+    for flag, value, name in checks:
+        if value is not None:
+            _core.check_render_argument(flag, _flag_text(value), name)
+    if resolution is not None:
+        resolution = "x".join(_flag_text(v) for v in _sequence(resolution, 2, "resolution"))
+        _core.check_render_argument("--resolution", resolution, "resolution")
+    if crop is not None:
+        crop = ",".join(_flag_text(v) for v in _sequence(crop, 4, "crop"))
+        _core.check_render_argument("--crop", crop, "crop")
     # Parameters travel as `--set key=value` does, each value as JSON (which
     # YAML reads): one code path for the program and the package.
     overrides = [f"{k}={json.dumps(v)}" for k, v in (params or {}).items()]
     array, resolved, report, layers = _core.render(os.fspath(scene), integrator or "", overrides, int(spp or 0),
                                                    float(seconds or 0), int(seed), int(threads), bool(progress),
                                                    list(aovs),
-                                                   "%dx%d" % tuple(resolution) if resolution else "",
-                                                   ",".join(str(int(v)) for v in crop) if crop else "")
+                                                   resolution or "", crop or "")
     image = array.view(RenderedImage)
     image.metadata = dict(json.loads(resolved), **report)
     image.layers = layers

@@ -1,5 +1,6 @@
 """Reading an experiment's run folder (results/<experiment>/<run-id>) into
 pandas and numpy: the log, the metadata and the images."""
+import io
 import json
 import os
 from dataclasses import dataclass, field
@@ -30,13 +31,26 @@ class Run:
         return self.log[self.log["final"]]
 
 
+def _read_log(path):
+    """log.csv without a torn last row, as `lightbench run --resume` reads it
+    (experiments/run_log.cpp): the runner writes whole lines, so a last line
+    without its newline is one a killed run left half written."""
+    with open(path, newline="") as f:
+        text = f.read()
+    if text and not text.endswith("\n"):
+        text = text[: text.rfind("\n") + 1]
+    log = pd.read_csv(io.StringIO(text))
+    # 1 is final, 0 not; a missing value is not final (astype(bool) made NaN True).
+    log["final"] = log["final"] == 1
+    return log
+
+
 def load_run(folder):
     """Reads a run folder: log.csv as a DataFrame (numeric columns typed,
     `final` as bool), meta.json as a dict, and every configuration's final
     image and the references as float32 arrays."""
     folder = os.fspath(folder)
-    log = pd.read_csv(os.path.join(folder, "log.csv"))
-    log["final"] = log["final"].astype(bool)
+    log = _read_log(os.path.join(folder, "log.csv"))
     meta_path = os.path.join(folder, "meta.json")
     meta = {}
     if os.path.exists(meta_path):

@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "experiments/cli/commands.h"
+#include "experiments/cli/flag_checks.h"
 #include "experiments/experiment.h"
 #include "experiments/json_values.h"
 #include "experiments/metrics.h"
@@ -36,6 +37,9 @@ FloatArray toArray(const Image& image) {
 Image toImage(const FloatArray& a, const char* what) {
   if (a.ndim() != 3 || a.shape(2) != 3)
     throw py::value_error(std::string(what) + ": expected an array of shape (height, width, 3)");
+  // An error of no pixels is no error (rmse of empty arrays was 0.0).
+  if (a.shape(0) == 0 || a.shape(1) == 0)
+    throw py::value_error(std::string(what) + ": an empty array (no pixels)");
   Image image(int(a.shape(1)), int(a.shape(0)));
   std::memcpy(image.pixels.data(), a.data(), image.pixels.size() * sizeof(Color));
   return image;
@@ -73,6 +77,12 @@ PYBIND11_MODULE(_core, m) {
           if (std::find(aovNames().begin(), aovNames().end(), a) == aovNames().end())
             throw py::value_error("unknown AOV '" + a + "'");
         args.spp = spp, args.seconds = seconds, args.seed = seed, args.threads = threads, args.quiet = !progress;
+        // Ctrl-C: Python's handler only sets a flag, run here between passes
+        // (on this, the main, thread), which raises KeyboardInterrupt.
+        args.betweenPasses = [] {
+          py::gil_scoped_acquire locked;
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        };
         RenderedImage r;
         {
           py::gil_scoped_release unlocked;  // a render takes seconds; other Python threads may run
@@ -87,6 +97,15 @@ PYBIND11_MODULE(_core, m) {
       py::arg("scene"), py::arg("integrator"), py::arg("overrides"), py::arg("spp"), py::arg("seconds"),
       py::arg("seed"), py::arg("threads"), py::arg("progress"), py::arg("aovs"), py::arg("resolution"),
       py::arg("crop"));
+  // One checker for render()'s arguments and `lightbench render`'s flags: the
+  // argument, as the flag's text, goes through the flag's own check.
+  m.def(
+      "check_render_argument",
+      [](const std::string& flag, std::string text, const std::string& argument) {
+        std::string problem = renderFlagCheck(flag)(text);
+        if (!problem.empty()) throw ConfigError("render()", 0, argument, problem);
+      },
+      py::arg("flag"), py::arg("text"), py::arg("argument"));
   m.def("read_exr_layer", [](const std::string& path, const std::string& layer) { return toArray(readExrLayer(path, layer)); },
         py::arg("path"), py::arg("layer"));
   m.def("read_exr_attributes", &readExrAttributes, py::arg("path"));
