@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 SECONDS_PER_TARGET=${1:-60}
 shift || true
-ALL_TARGETS=(fuzz_scene fuzz_mitsuba fuzz_experiment fuzz_mesh fuzz_exr)
+ALL_TARGETS=(fuzz_scene fuzz_mitsuba fuzz_experiment fuzz_mesh fuzz_exr fuzz_texture)
 if (($#)); then TARGETS=("$@"); else TARGETS=("${ALL_TARGETS[@]}"); fi
 BUILD=${BUILD_DIR:-$ROOT/build-fuzz}
 JOBS=${JOBS:-1}
@@ -29,7 +29,7 @@ SEED_FLAG=()
 
 # Inputs larger than this are truncated: enough for any seed scene or
 # experiment, small enough that a fuzzer cannot spell out a huge mesh.
-declare -A MAX_LEN=([fuzz_scene]=8192 [fuzz_mitsuba]=16384 [fuzz_experiment]=8192 [fuzz_mesh]=16384 [fuzz_exr]=16384)
+declare -A MAX_LEN=([fuzz_scene]=8192 [fuzz_mitsuba]=16384 [fuzz_experiment]=8192 [fuzz_mesh]=16384 [fuzz_exr]=16384 [fuzz_texture]=16384)
 
 for t in "${TARGETS[@]}"; do
   [[ -n "${MAX_LEN[$t]:-}" ]] || { echo "fuzz: unknown target '$t' (have: ${ALL_TARGETS[*]})" >&2; exit 2; }
@@ -52,6 +52,7 @@ seed_files() {
     fuzz_experiment) find experiments tests/data -name '*.yaml' 2>/dev/null || true ;;
     fuzz_mesh) find scenes/meshes tests/data \( -name '*.obj' -o -name '*.ply' \) 2>/dev/null || true ;;
     fuzz_exr) find tests/data -name '*.exr' 2>/dev/null || true ;;
+    fuzz_texture) find scenes tests/data \( -name '*.exr' -o -name '*.png' \) -size -64k 2>/dev/null || true ;;
   esac
 }
 make_seeds() {
@@ -71,6 +72,19 @@ make_seeds() {
     fi
   done < <(seed_files "$t")
   [[ $t == fuzz_exr ]] && "$BIN/fuzz_exr_seeds" "$dir"
+  if [[ $t == fuzz_texture ]]; then
+    # fuzz_texture's first byte picks the use (see fuzz_texture.cpp): each
+    # image as a PNG or EXR texture and as an environment map.
+    local tmp=$BUILD/fuzz-seeds/texture-images
+    rm -rf "$tmp" && mkdir -p "$tmp" && "$BIN/fuzz_exr_seeds" "$tmp"
+    for f in "$dir"/* "$tmp"/*; do
+      [[ -f "$f" ]] || continue
+      if [[ $f == *.png ]]; then printf '\x02' | cat - "$f" >"$f.tex" && printf '\x06' | cat - "$f" >"$f.srgb"
+      else printf '\x00' | cat - "$f" >"$f.tex" && printf '\x01' | cat - "$f" >"$f.env" && printf '\x03' | cat - "$f" >"$f.uniform"; fi
+      rm "$f"
+    done
+    mv "$tmp"/* "$dir"/ 2>/dev/null || true
+  fi
   if [[ $t == fuzz_mesh ]]; then
     # The repo has no PLY (nor OBJ with normals and uvs): small ones so the
     # fuzzer starts inside both readers. First byte as above.
