@@ -415,13 +415,21 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   auto render = [&](const RepeatTargets& targets) {
     std::vector<RunTask> tasks;
     size_t wanted = 0;
-    for (size_t si = 0; si < e.scenes.size(); ++si)
-      for (size_t ci = 0; ci < e.configurations.size(); ++ci)
-        for (int r = 0; r < targets[si][ci]; ++r) {
+    // Repeat by repeat, the configurations in turn: a shared machine's speed
+    // drifts over minutes (two runs of one build minutes apart differed by
+    // 11 % in samples per second, docs/results.md), and configuration after
+    // configuration would hand that drift to one of them at equal time.
+    for (size_t si = 0; si < e.scenes.size(); ++si) {
+      int most = 0;
+      for (size_t ci = 0; ci < e.configurations.size(); ++ci) most = std::max(most, targets[si][ci]);
+      for (int r = 0; r < most; ++r)
+        for (size_t ci = 0; ci < e.configurations.size(); ++ci) {
+          if (r >= targets[si][ci]) continue;
           ++wanted;
           if (!completed.count(runKey(e.scenes[si].name, e.configurations[ci].label, std::to_string(r))))
             tasks.push_back({si, ci, r});
         }
+    }
     if (firstLook && tasks.size() < wanted)
       std::cerr << "resume: " << wanted - tasks.size() << " of " << wanted << " runs already complete\n";
     if (!firstLook && !tasks.empty())

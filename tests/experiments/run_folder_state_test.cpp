@@ -118,5 +118,21 @@ TEST_F(RunFolderState, ATornLastRowIsStillDroppedAndRedone) {
   EXPECT_EQ(std::count(redone.begin(), redone.end(), '\n'), 3) << redone;  // header and two snapshots
 }
 
+// Repeats alternate between the configurations, so that a machine's speed
+// drifting over minutes is shared by all of them at equal time.
+TEST_F(RunFolderState, ConfigurationsTakeTurnsRepeatByRepeat) {
+  std::string exp = readFile(dir_ / "exp.yaml");
+  exp.replace(exp.find("  - {label: a, integrator: path}\n"), 33,
+              "  - {label: a, integrator: path}\n  - {label: b, integrator: light}\n");
+  std::ofstream(dir_ / "exp.yaml") << exp << "repeats: 3\n";
+  fs::path runDir = finishedRun();
+  std::istringstream log(readFile(runDir / "log.csv"));
+  std::string line, order;
+  std::getline(log, line);
+  while (std::getline(log, line))
+    if (line.back() == '1') order += line.substr(line.find(',') + 1, 1);  // the label of each final row
+  EXPECT_EQ(order, "ababab");
+}
+
 }  // namespace
 }  // namespace lb
