@@ -47,6 +47,9 @@ struct LoadContext {
   int defaultMaterial = -1;
   size_t degenerateTriangles = 0;
   std::vector<LightSource> lights;
+  // Printed only once the whole scene is accepted (issue 34, class 8): a
+  // scene refused later gets its one error line, not warnings first.
+  std::vector<std::string> warnings;
 };
 
 // Light selection weighs each light by its power (core/light_sampler.h). A
@@ -55,12 +58,31 @@ struct LoadContext {
 // and a light chosen with probability NaN or 0 rendered black with no NaN
 // counted (issue 34). Checked once the scene is built (an environment's or a
 // directional light's power depends on the scene's radius), naming the key.
-void checkLightPowers(LoadContext& ctx) {
+// The lights' powers are summed too, in double, emitting shapes included: a
+// light subpath's starting throughput Le / (selection pmf · pdf) is the total
+// power (times the light count under uniform selection), so three point
+// lights of 1e37 each overflowed it although each alone was finite. Blamed on
+// the brightest light written in `lights`, or on `shapes` if it is an emitter.
+void checkLightPowers(LoadContext& ctx, const Scene& scene, Params& root) {
   for (LightSource& s : ctx.lights) {
     Color phi = s.light->power();
     if (!(std::isfinite(phi.r) && std::isfinite(phi.g) && std::isfinite(phi.b) && std::isfinite(luminance(phi))))
       s.params.fail(s.key, "the light's power (its emitted flux) is beyond a float's range; lower it");
   }
+  double total = 0, brightest = 0;
+  const Light* brightestLight = nullptr;
+  for (const auto& light : scene.lights()) {
+    Color phi = light->power();
+    double p = double(std::max({phi.r, phi.g, phi.b}));
+    total += p;
+    if (p > brightest) brightest = p, brightestLight = light.get();
+  }
+  if (total * double(scene.lights().size()) <= double(std::numeric_limits<float>::max())) return;
+  const std::string why = "the lights' total power (their emitted flux, summed, times the number of lights) is beyond a "
+                          "float's range, which a light path's throughput must hold; lower it";
+  for (LightSource& s : ctx.lights)
+    if (s.light == brightestLight) s.params.fail(s.key, why);
+  root.fail("shapes", why);
 }
 
 void addLight(Scene& scene, LoadContext& ctx, Params& p, const std::string& key, std::unique_ptr<Light> light) {
@@ -264,8 +286,8 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
     }
     if (dropped) {
-      warn(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " + std::to_string(dropped) +
-           " degenerate (zero-area) triangle(s)");
+      ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " +
+                             std::to_string(dropped) + " degenerate (zero-area) triangle(s)");
       ctx.degenerateTriangles += dropped;
     }
     shape = Shape::mesh(std::move(mesh));
@@ -283,7 +305,9 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   if (!shape.isSphere() && !shape.triangleMesh().uvSeam.empty()) {
     bool textured = material >= 0 && scene.material(material).texture();
     for (int m : shape.triangleMaterials) textured |= m >= 0 && scene.material(m).texture();
-    if (textured) warn(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": " + shape.triangleMesh().uvSeam);
+    if (textured)
+      ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": " +
+                             shape.triangleMesh().uvSeam);
   }
   scene.addShape(std::move(shape), emission);
 }
@@ -456,7 +480,8 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
   p.checkUnused();
   out.degenerateTriangles = ctx.degenerateTriangles;
   scene.build(selection == "power" ? LightSelection::Power : LightSelection::Uniform);
-  checkLightPowers(ctx);
+  checkLightPowers(ctx, scene, p);
+  for (const std::string& w : ctx.warnings) warn(w);
   return out;
 }
 

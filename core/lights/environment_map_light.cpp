@@ -8,6 +8,12 @@ namespace lb {
 EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, const Mat3& toWorld, bool importance)
     : map_(std::move(map)), scale_(scale), toWorld_(toWorld), toMap_(glm::transpose(toWorld)), importance_(importance) {
   const int w = map_.width, h = map_.height;
+  // The weights are relative: divided by the brightest texel, so that a row's
+  // sum stays a float for any map whose texels are (a wide map of 1e35s
+  // summed past 3.4e38 and gave NaN probabilities: issue 34, class 1).
+  float brightest = 0;
+  for (const Color& c : map_.pixels) brightest = std::max({brightest, c.r, c.g, c.b});
+  const double unit = brightest > 0 ? 1.0 / double(brightest) : 1.0;
   std::vector<float> rowWeights(static_cast<size_t>(h));
   columns_.reserve(size_t(h));
   for (int y = 0; y < h; ++y) {
@@ -16,7 +22,7 @@ EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, const Mat3& toW
     double rowSum = 0;
     for (int x = 0; x < w; ++x) {
       const Color& c = map_.at(x, y);
-      weights[size_t(x)] = float(std::max({c.r, c.g, c.b}) * sinTheta);
+      weights[size_t(x)] = float(double(std::max({c.r, c.g, c.b})) * unit * sinTheta);
       rowSum += weights[size_t(x)];
     }
     columns_.emplace_back(weights);

@@ -357,6 +357,47 @@ TEST_F(BadInput, LightPowersAndScaledRadianceThatOverflowAreRefused) {
   }
 }
 
+// Issue 34, class 1, beyond one light: a light subpath starts with the
+// lights' total power as its throughput (times their count under uniform
+// selection), so lights that each fit can overflow it together; and an
+// environment map's sampling weights sum a row of texels, which for a wide
+// map of bright texels overflowed into NaN probabilities.
+TEST_F(BadInput, LightsWhoseTotalPowerOverflowsAreRefused) {
+  std::string three = "lights:\n";
+  for (int i = 0; i < 3; ++i) three += "  - {type: point, position: [" + std::to_string(i) + ", 3, 0], intensity: 1e37}\n";
+  expectError(render(write("p.yaml", scene("", three))), "p.yaml:", "lights[", "the lights' total power");
+  // Two of 5e36 (power 6.3e37 each, 2.5e38 in all with the count) still fit.
+  std::string two = "lights:\n";
+  for (int i = 0; i < 2; ++i) two += "  - {type: point, position: [" + std::to_string(i) + ", 3, 0], intensity: 5e36}\n";
+  RunResult ok = render(write("q.yaml", scene("", two)), "--integrator light");
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+  EXPECT_NE(ok.err.find("NaN/Inf samples: 0"), std::string::npos) << ok.err;
+}
+
+TEST_F(BadInput, WideBrightEnvironmentMapSamplesWithoutNaN) {
+  // 4096 texels of 1e36 (× sin θ = 0.71) a row sum past a float's largest value (3.4e38).
+  lb::Image sky(4096, 2);
+  for (lb::Color& c : sky.pixels) c = lb::Color(1e36f);
+  lb::writeExr((dir_ / "sky.exr").string(), sky);
+  std::string text = "camera: {position: [0, 1, 4], look_at: [0, 1, 0]}\nfilm: {width: 8, height: 8}\n"
+                     "shapes: [{type: sphere, radius: 0.5}]\nlights: [{type: environment, file: sky.exr, scale: 1e-3}]\n";
+  RunResult r = render(write("m.yaml", text), "", "--spp 4");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("NaN/Inf samples: 0"), std::string::npos) << r.err;
+}
+
+// Issue 34, class 8: a shape's warning (degenerate triangles skipped) was
+// printed before a later key refused the scene: one bad input, one line.
+TEST_F(BadInput, WarningsWaitForTheSceneToBeAccepted) {
+  write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+  RunResult bad = render(write("s.yaml", scene("  - {type: mesh, file: tri.obj}", "") + "lights: [{type: nope}]\n"));
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  RunResult good = render(write("t.yaml", scene("  - {type: mesh, file: tri.obj}")));
+  EXPECT_EQ(good.exitCode, 0) << good.err;
+  EXPECT_NE(good.err.find("skipped 1 degenerate"), std::string::npos) << good.err;
+}
+
 // Issue 34, class 2: a texture scales a reflectance, so a negative texture
 // value is refused as a negative albedo is (it gave negative pixels).
 TEST_F(BadInput, NegativeTextureValuesAreRefused) {
