@@ -19,6 +19,12 @@
 
 namespace lb {
 
+// The most samples per pixel any budget may ask for (render --spp and
+// --chunk-spp, an experiment's and a reference's spp, Mitsuba's
+// sample_count): 2^31 - 1, what a YAML budget (an int) holds. Checked before
+// anything renders; `--spp 18446744073709551615` ran for ever (issue 34).
+inline constexpr uint64_t kMaxSpp = 2147483647;
+
 class Sampler {
  public:
   virtual ~Sampler() = default;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <vector>
 #include "core/mitsuba/translator.h"
+#include "core/sampler.h"
 
 namespace lb::mitsuba {
 
@@ -88,6 +89,10 @@ void Translator::readSensor(pugi::xml_node n) {
   bool film = false, sampler = false;
   for (pugi::xml_node o : p.objects) {
     std::string tag = o.name();
+    // A second one would silently replace the first (issue 34, class 3), as a
+    // second <integrator> did.
+    if ((tag == "sampler" && sampler) || (tag == "film" && film))
+      xml_.fail(o, "", "a second <" + tag + "> in one <sensor>: a sensor has one");
     if (tag == "sampler") {
       readSampler(o);
       sampler = true;
@@ -124,7 +129,8 @@ void Translator::readSampler(pugi::xml_node n) {
   std::string type = xml_.attr(n, "type");
   Props p(xml_, n);
   long count = p.getInt("sample_count", 4);
-  if (count < 1) xml_.fail(n, "sample_count", "must be at least 1");
+  if (count < 1 || uint64_t(count) > kMaxSpp)
+    xml_.fail(n, "sample_count", "must be from 1 to " + std::to_string(kMaxSpp) + " (samples per pixel)");
   out_.sampleCount = uint64_t(count);
   YAML::Node s(YAML::NodeType::Map);
   if (type == "stratified") {

@@ -95,7 +95,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
       "are spread over the ranks, with the same bits for any number of ranks (path, light, bdpt, direct, vcm mode=bpt)");
   render->add_option("--chunk-spp", r.chunkSpp, "Passes per chunk with --distributed (default 16; --spp must be a multiple)")
       ->needs(distributed)
-      ->check(unsignedInteger(1, "passes per chunk"));
+      ->check(renderFlagCheck("--chunk-spp"));
   render->add_flag("--strict", r.strict, "An imported (.xml) scene's unsupported elements are errors, not warnings");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
       ->check(positiveFinite(""));

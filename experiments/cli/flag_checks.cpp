@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include "core/sampler.h"
 #include "experiments/experiment.h"
 
 namespace lb {
@@ -30,13 +31,12 @@ std::string got(const std::string& text) { return ", got '" + text + "'"; }
 
 }  // namespace
 
-CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what) {
-  std::string rule = minimum == 0 ? "a whole number in [0, 18446744073709551615]"
-                                  : "a whole number in [" + std::to_string(minimum) + ", 18446744073709551615]";
+CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what, uint64_t maximum) {
+  std::string rule = "a whole number in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
   return CLI::Validator(
       [=](std::string& text) {
         uint64_t v = 0;
-        if (!parseWhole(text, v) || v < minimum) return "must be " + rule + " (" + what + ")" + got(text);
+        if (!parseWhole(text, v) || v < minimum || v > maximum) return "must be " + rule + " (" + what + ")" + got(text);
         return std::string();
       },
       ">= " + std::to_string(minimum));
@@ -88,7 +88,8 @@ CLI::Validator numberInRange(double minimum, double maximum, const std::string& 
 }
 
 CLI::Validator renderFlagCheck(const std::string& flag) {
-  if (flag == "--spp") return unsignedInteger(1, "samples per pixel");
+  if (flag == "--spp") return unsignedInteger(1, "samples per pixel", kMaxSpp);
+  if (flag == "--chunk-spp") return unsignedInteger(1, "passes per chunk", kMaxSpp);
   if (flag == "--time") return positiveFinite("seconds", kMaxBudgetSeconds);
   if (flag == "--seed") return unsignedInteger(0, "random seed");
   if (flag == "--threads") return intInRange(0, std::numeric_limits<int>::max(), "worker threads, 0: all cores");
@@ -98,6 +99,19 @@ CLI::Validator renderFlagCheck(const std::string& flag) {
   if (flag == "--adaptive-passes") return intInRange(4, std::numeric_limits<int>::max(), "uniform passes, at least 4");
   if (flag == "--adaptive-target") return numberInRange(0, std::numeric_limits<double>::max(), "relative error, 0: none");
   throw std::logic_error("renderFlagCheck: no check for " + flag);
+}
+
+void checkFileNameFits(const std::string& flag, const std::string& path) {
+  namespace fs = std::filesystem;
+  // Linux's pids have at most 7 digits (pid_max 4194304).
+  const size_t nameBytes = fs::path(path).filename().string().size() + sizeof("..tmp-4194304") - 1;
+  const size_t pathBytes = fs::absolute(path).string().size() + sizeof("..tmp-4194304") - 1;
+  if (nameBytes > 255)
+    throw flagError(flag, "the file name " + fs::path(path).filename().string().substr(0, 24) + "… is too long: written as " +
+                              std::to_string(nameBytes) + " bytes (with its temporary suffix), over the file system's 255");
+  if (pathBytes > 4095)
+    throw flagError(flag, "the path " + path.substr(0, 24) + "… is too long: " + std::to_string(pathBytes) +
+                              " bytes with its temporary suffix, over the file system's 4095");
 }
 
 bool parsePixel(const std::string& text, int& x, int& y) {

@@ -11,8 +11,9 @@
 
 namespace lb {
 
-// A whole decimal number in [minimum, 2^64-1]: no sign, no junk, no overflow.
-CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what);
+// A whole decimal number in [minimum, maximum]: no sign, no junk, no overflow.
+CLI::Validator unsignedInteger(uint64_t minimum, const std::string& what,
+                               uint64_t maximum = std::numeric_limits<uint64_t>::max());
 // A whole decimal number in [minimum, maximum] (for int-typed flags).
 CLI::Validator intInRange(long long minimum, long long maximum, const std::string& what);
 // A number > 0 that is not NaN or infinite, at most `maximum`; `what` names
@@ -21,7 +22,7 @@ CLI::Validator positiveFinite(const std::string& what, double maximum = std::num
 // A number in [minimum, maximum]; NaN refused (CLI::Range and
 // CLI::NonNegativeNumber let it through: `--exposure nan` wrote a black PNG).
 CLI::Validator numberInRange(double minimum, double maximum, const std::string& what);
-// The check of one of `lightbench render`'s valued flags: --spp, --time,
+// The check of one of `lightbench render`'s valued flags: --spp, --chunk-spp, --time,
 // --seed, --threads, --resolution, --crop, --exposure, --adaptive-passes,
 // --adaptive-target. The command line and the Python package's render()
 // (its arguments as the flags' text) go through these same checks.
@@ -49,6 +50,12 @@ ConfigError flagError(const std::string& flag, const std::string& message);
 // root on a read-only folder and on /proc, and the failure would otherwise
 // come after the render.
 void checkWritableFolder(const std::string& flag, const std::filesystem::path& dir);
+
+// Throws flagError(flag, ...) unless `path` and the temporary name it is
+// first written under (.NAME.tmp-PID, core/image.cpp) fit the file system's
+// limits: 255 bytes a name (NAME_MAX), 4095 a path (PATH_MAX). A name of 250
+// bytes rendered, then failed to write (issue 34, class 6).
+void checkFileNameFits(const std::string& flag, const std::string& path);
 
 // Strict "X,Y" parsing shared by the validator and the render command.
 bool parsePixel(const std::string& text, int& x, int& y);

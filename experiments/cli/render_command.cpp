@@ -110,8 +110,10 @@ void checkOutputs(const std::string& output) {
   if (!fs::is_directory(dir, ec)) throw flagError("--output", "not a folder: " + dir.string());
   checkWritableFolder("--output", dir);
   std::string stem = stemPath(output);
-  for (const std::string& path : {output, stem + ".png", stem + ".config.yaml"})
+  for (const std::string& path : {output, stem + ".png", stem + ".config.yaml"}) {
+    checkFileNameFits("--output", path);
     if (fs::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
+  }
 }
 
 void printSummary(const RenderedImage& r) {
@@ -352,6 +354,7 @@ int render(const RenderArgs& args) {
   if (!replay)
     for (const std::string& path : job.integrator->extraOutputPaths(stemPath(output))) {
       std::error_code ec;
+      checkFileNameFits("--output", path);
       if (std::filesystem::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
     }
   auto threads = limitThreads(args.threads);

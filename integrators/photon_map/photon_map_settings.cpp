@@ -25,7 +25,7 @@ PhotonMapSettings PhotonMapSettings::read(Params& p) {
   s.query.k = k == 0 ? std::numeric_limits<size_t>::max() : size_t(k);
   s.maxRadius = p.getFloat("max_radius", 0,
                            {"largest gather radius in world units; 0: 5 % of the scene's bounding radius",
-                            Range::atLeast(0)});
+                            Range::between(0, 1e12)});
   return s;
 }
 

@@ -34,6 +34,30 @@ TEST_F(BadFlag, SppAndTimeMustBePositiveAndFinite) {
   }
   // Issue 34: finite but absurd, it rendered forever ("ETA forever").
   expectFlagError(renderWith("--time 1e300"), "--time", "must be at most 2592000 seconds, got '1e300'");
+  // And so did a sample count of 2^64 - 1: at most 2^31 - 1, as a YAML budget.
+  expectFlagError(renderWith("--spp 18446744073709551615"), "--spp", "must be a whole number in [1, 2147483647]");
+  expectFlagError(renderWith("--spp 2147483648"), "--spp", "got '2147483648'");
+  expectFlagError(renderWith("--spp 32 --distributed --chunk-spp 2147483648"), "--chunk-spp", "got '2147483648'");
+}
+
+// Issue 34, class 6: an output name too long for the file system (with the
+// temporary suffix it is first written under) rendered, then failed.
+TEST_F(BadFlag, OutputNamesTooLongForTheFileSystemAreRefusedFirst) {
+  std::string scene = validScene();
+  // ".<name>.config.yaml.tmp-PID" is the longest: 240 + 22 bytes.
+  RunResult r = run("render " + scene + " -q --spp 1 -o " + (dir_ / "out" / (std::string(236, 'n') + ".exr")).string());
+  expectFlagError(r, "--output", "is too long");
+  RunResult ok = run("render " + scene + " -q --spp 1 -o " + (dir_ / "out" / (std::string(200, 'n') + ".exr")).string());
+  EXPECT_EQ(ok.exitCode, 0) << ok.err;
+}
+
+// mode: mmlt keeps a chain per path length: a max_depth of 2^31 - 1
+// allocated gigabytes and bootstrapped for ever.
+TEST_F(BadFlag, MultiplexedMltHasAMaximumDepth) {
+  RunResult r = renderWith("--spp 1 --integrator mlt --set mode=mmlt --set max_depth=4097");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("max_depth must be at most 4096"), std::string::npos) << r.err;
+  EXPECT_TRUE(noOutput());
 }
 
 TEST_F(BadFlag, AdaptiveNeedsAPixelByPixelIntegratorAndSaneSettings) {

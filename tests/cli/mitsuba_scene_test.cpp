@@ -99,6 +99,23 @@ TEST_F(BadInput, MitsubaSecondIntegratorIsRefused) {
   expectError(render(write("int.xml", xmlScene(second + kLitSphere))), "int.xml:4:", "<integrator", "a second <integrator>");
 }
 
+// A second <film> or <sampler> in a sensor replaced the first, as a second
+// <integrator> did; a sample_count beyond the largest budget ran for ever.
+TEST_F(BadInput, MitsubaSecondFilmOrSamplerInASensorIsRefused) {
+  const std::string film = "<film type=\"hdrfilm\"><integer name=\"width\" value=\"8\"/><integer name=\"height\" value=\"8\"/></film>\n";
+  const std::string sampler = "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"4\"/></sampler>\n";
+  for (const auto& [twice, tag] : {std::pair{film, "film"}, std::pair{sampler, "sampler"}}) {
+    std::string f = write(std::string(tag) + ".xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n" + twice +
+                                                        twice + "</sensor>\n" + kLitSphere + "</scene>\n");
+    expectError(render(f), std::string(tag) + ".xml:4:", std::string("<") + tag, std::string("a second <") + tag + "> in one <sensor>");
+    fs::remove_all(dir_ / "out");
+  }
+  std::string many = "<sampler type=\"independent\"><integer name=\"sample_count\" value=\"2147483648\"/></sampler>\n";
+  std::string f = write("many.xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n" + film + many +
+                                        "</sensor>\n" + kLitSphere + "</scene>\n");
+  expectError(render(f), "many.xml:4:", "sample_count", "");
+}
+
 TEST_F(BadInput, MitsubaRefusedSceneIsOneLineWithoutItsWarnings) {
   // An unsupported element (a warning) before a missing environment map (the error).
   std::string f = write("env.xml", xmlScene("<medium type=\"homogeneous\"/>\n<emitter type=\"envmap\"><string name=\"filename\" value=\"nope.exr\"/></emitter>\n"));
