@@ -118,6 +118,10 @@ bool missing(const std::string& path) {
   return !std::filesystem::exists(path, ec);
 }
 
+// The longest scene name, and reference scene file stem (they name a run's
+// files and the reference cache's).
+constexpr size_t kMaxSceneName = 100;
+
 ReferenceSpec readReference(Params& p, const std::string& folder, const ExperimentOptions& options,
                             KeyLocation* at) {
   ReferenceSpec r;
@@ -146,6 +150,9 @@ ReferenceSpec readReference(Params& p, const std::string& folder, const Experime
       *at = locate(*ref, "scene");
       r.scene = (std::filesystem::path(folder) / ref->getString("scene", "")).lexically_normal().string();
       if (missing(r.scene)) ref->fail("scene", "reference scene not found: " + r.scene + whyMissing(r.scene));
+      if (std::filesystem::path(r.scene).stem().string().size() > kMaxSceneName)
+        ref->fail("scene", "the reference scene's file name is over " + std::to_string(kMaxSceneName) +
+                               " bytes: it names the reference's cache files; rename the file");
     }
     r.integrator = ref->getString("integrator", "path");
     if (!integratorExists(r.integrator))
@@ -338,6 +345,21 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       std::replace_if(s.name.begin(), s.name.end(), [](char c) { return c == ' ' || c == '\\'; }, '-');
       if (s.name.empty()) sp.fail("scene", "the file name has no stem to name the scene by: give it a `name`");
     }
+    // Its files are <name>__<label>... and its reference's cache
+    // <name>-<key>.variance.exr: 100 bytes leave room for both under NAME_MAX,
+    // so a long name is refused here, not blamed on a label or found after
+    // the reference's first chunk (issue 34, class 6).
+    if (s.name.size() > kMaxSceneName)
+      sp.fail(sp.has("name") ? "name" : "scene", "the scene's name '" + s.name.substr(0, 24) + "…' is " +
+                                                     std::to_string(s.name.size()) + " bytes; at most " +
+                                                     std::to_string(kMaxSceneName) + " (it names the run's files)" +
+                                                     (sp.has("name") ? "" : ": give a shorter `name`"));
+    // "__" separates a scene's name from a label in file names: scene cb's
+    // configuration x_repeat1 and a scene cb__x's would share them.
+    if (s.name.find("__") != std::string::npos)
+      sp.fail(sp.has("name") ? "name" : "scene", "the scene's name '" + s.name.substr(0, 40) +
+                                                     "' holds \"__\", which separates scene and label in the run's file "
+                                                     "names" + (sp.has("name") ? "" : ": give a `name`"));
     for (const auto& other : e.scenes)
       if (other.name == s.name) sp.fail(sp.has("name") ? "name" : "scene", "two scenes are named '" + s.name + "': give one a `name`");
     if (sp.has("world_scale")) {  // the run's scene scaled (camera, lights and radii too)
@@ -354,7 +376,8 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
       } catch (const YAML::Exception&) {
         sp.fail("resolution", "expected two integers");
       }
-      if (w <= 0 || h <= 0) sp.fail("resolution", "must be positive");
+      if (w <= 0 || h <= 0 || w > 8192 || h > 8192)
+        sp.fail("resolution", "each must be from 1 to 8192 (the largest image the run's readers read, as --resolution)");
       std::string problem = filmMemoryProblem(w, h);
       if (!problem.empty()) sp.fail("resolution", problem);
       s.overrides["film"]["width"] = w;
@@ -434,6 +457,14 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
   if (spp < 0) budget->fail("spp", "must not be negative");
   e.budget.spp = uint64_t(spp);
   if (e.budget.seconds == 0 && e.budget.spp == 0) p.fail("budget", "needs seconds and/or spp");
+  // An adaptive configuration whose budget ends within its uniform passes
+  // adapts nothing: it would be compared as adaptive while it was not (issue
+  // 34, class 7; `render --adaptive` says so after the render).
+  for (const Configuration& c : e.configurations)
+    if (c.adaptive.enabled && e.budget.spp != 0 && e.budget.spp <= uint64_t(c.adaptive.passes))
+      budget->fail("spp", std::to_string(e.budget.spp) + " samples per pixel end within configuration '" + c.label +
+                              "''s " + std::to_string(c.adaptive.passes) +
+                              " uniform passes (adaptive.passes): nothing would adapt; raise spp or lower passes");
   if (options.quick) e.budget.seconds /= 4, e.budget.spp = e.budget.spp ? std::max<uint64_t>(1, e.budget.spp / 4) : 0;
 
   if (auto snaps = p.getChild("snapshots")) {

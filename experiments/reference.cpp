@@ -103,11 +103,30 @@ namespace {
 // underestimates it too often.
 constexpr uint64_t MinChunksForFloor = 16;
 
+// A noise floor too low to reach (1e-30) stops at the 30 days a time budget
+// may ask for (issue 34, class 5), and says so (floorNotReached).
 bool budgetMet(const ReferenceSpec& r, uint64_t chunks, double seconds, double varianceOfMean) {
   if (r.spp > 0) return chunks * r.chunkSpp >= r.spp;  // 1 spp: one chunk, no variance
   if (chunks < 2) return false;
   if (r.seconds > 0) return seconds >= r.seconds;
-  return chunks >= MinChunksForFloor && std::sqrt(varianceOfMean) <= r.noiseFloor;
+  return (chunks >= MinChunksForFloor && std::sqrt(varianceOfMean) <= r.noiseFloor) || seconds >= kMaxBudgetSeconds;
+}
+
+bool floorNotReached(const ReferenceSpec& r, double varianceOfMean) {
+  return r.noiseFloor > 0 && !(std::sqrt(varianceOfMean) <= r.noiseFloor);
+}
+
+// A variance image that overflowed a float (a reference brighter than its
+// squares can hold) would empty the comparisons' columns (issue 34, class 1):
+// refused where it is computed, naming the pixel.
+void checkFiniteVariance(const ExperimentScene& s, const Image& variance, const std::string& what) {
+  for (size_t i = 0; i < variance.pixels.size(); ++i) {
+    const Color& c = variance.pixels[i];
+    if (!(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)))
+      throw s.referenceAt.error(what + ": its per-pixel variance is beyond a float's range at pixel (" +
+                                std::to_string(i % size_t(variance.width)) + ", " +
+                                std::to_string(i / size_t(variance.width)) + "); the scene's radiance is too large");
+  }
 }
 
 struct CachePaths {
@@ -175,6 +194,7 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     Image mean = readExr(cache.mean.string()), variance = readExr(cache.variance.string());
     if (mean.width != width || mean.height != height || variance.width != width || variance.height != height)
       return false;
+    checkFiniteVariance(s, variance, "cached reference " + cache.variance.string());
     acc.restore(mean, variance, chunks);
     seconds = cachedSeconds;
     nonFinite = uint64_t(info.getInt("non_finite_samples", 0));
@@ -193,6 +213,9 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     r.description = d.str();
     std::cerr << "reference: " << cache.mean.string() << " (" << d.str() << ", noise floor "
               << std::sqrt(r.varianceOfMean) << ")\n";
+    if (floorNotReached(spec, r.varianceOfMean))
+      std::cerr << "warning: reference " << referenceName(s) << " stopped at 30 days (the longest budget) above its "
+                << "noise_floor " << spec.noiseFloor << "\n";
     return r;
   };
   if (loadCache() && budgetMet(spec, acc.chunks, seconds, acc.varianceOfMean())) return result("cached");
@@ -218,8 +241,16 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
 
     // Saved after every chunk: the mean and variance images first, then the
     // sidecar naming their hash (a write cut between them is detected above).
+    Image varianceImage = acc.varianceOfMeanImage();
+    try {
+      checkFiniteVariance(s, varianceImage, "reference " + referenceName(s));
+    } catch (const ConfigError&) {
+      // A refused reference leaves no chunk behind to be served later.
+      for (const auto& f : {cache.mean, cache.variance, cache.sidecar}) std::filesystem::remove(f);
+      throw;
+    }
     writeExr(cache.mean.string(), acc.meanImage());
-    writeExr(cache.variance.string(), acc.varianceOfMeanImage());
+    writeExr(cache.variance.string(), varianceImage);
     double v = acc.varianceOfMean();
     YAML::Emitter info;  // an emitter: a scene path with ": " or "#" stays valid YAML
     info << YAML::BeginMap << YAML::Key << "scene" << YAML::Value << referenceScene(s) << YAML::Key << "integrator"

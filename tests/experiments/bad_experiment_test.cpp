@@ -227,6 +227,32 @@ TEST_F(BadExperiment, ACorruptCachedReferenceSidecarIsNamed) {
   EXPECT_NE(err.find("variance_of_mean"), std::string::npos) << err;
 }
 
+// Issue 34, class 1: a reference whose per-pixel variance overflows a float
+// (radiance of 1e22 at the lamp's edge: chunk values 0 or 1e22, squares
+// 1e44) wrote +Inf into its cached variance image, and the comparisons'
+// columns came out empty. Refused where it is computed, naming the
+// reference's key and a pixel; no chunk of it is cached.
+TEST_F(BadExperiment, AReferenceWhoseVarianceOverflowsIsRefused) {
+  std::string scene = readFile(dir_ / "scene.yaml");
+  std::ofstream(dir_ / "scene.yaml") << scene << "\n# a lamp too bright for its variance\n";
+  std::ofstream(dir_ / "scene.yaml", std::ios::app)
+      << "lights: [{type: point, position: [0, 1, 0], intensity: 1e22}]\n";
+  writeExperiment("{integrator: path, spp: 4}");
+  std::string err;
+  fs::path results = dir_ / "results";
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + results.string(), &err), 2) << err;
+  EXPECT_NE(err.find("exp.yaml:4: 'scenes[0].reference': reference scene: its per-pixel variance is beyond a float's range"),
+            std::string::npos) << err;
+  // Found while rendering: the reference's progress lines, then one error line, the last.
+  size_t errorAt = err.find("error: ");
+  EXPECT_NE(errorAt, std::string::npos) << err;
+  EXPECT_TRUE(errorAt == 0 || err[errorAt - 1] == '\n') << err;
+  EXPECT_EQ(err.find('\n', errorAt), err.size() - 1) << "the error is not the last line: " << err;
+  if (fs::exists(results / "references"))
+    for (const auto& f : fs::directory_iterator(results / "references"))
+      EXPECT_NE(f.path().extension(), ".exr") << f.path();
+}
+
 // An unwritable --results used to fail with exit 1 and a filesystem error;
 // /proc refuses new files even to root. A file in the way is not a folder.
 TEST_F(BadExperiment, AnUnwritableResultsFolderIsRefusedBeforeRendering) {
@@ -251,7 +277,8 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   std::string exp = readFile(text);
   exp.replace(exp.find("resolution: [8, 8]"), 18, "resolution: [1000000, 1000000]");
   std::ofstream(text) << exp;
-  expectRefused("exp.yaml:3: 'scenes[0].resolution': a 1000000 x 1000000 film needs about");  // blamed the scene's film
+  // Blamed the scene's film before; now beyond the largest image a run reads.
+  expectRefused("exp.yaml:3: 'scenes[0].resolution': each must be from 1 to 8192");
   exp = readFile(text);
   exp.replace(exp.find("resolution: [1000000, 1000000]"), 30, "resolution: [8, 8]\n    world_scale: 1e30");
   std::ofstream(text) << exp;
@@ -350,6 +377,32 @@ TEST_F(BadExperiment, LabelsThatWouldNameTheRunsOwnFilesAreRefused) {
   withLabel(std::string(219, 'L'));
   std::string err;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "results").string(), &err), 0) << err;
+}
+
+// Issue 34, classes 4-7 beyond the labels: a scene name too long for the
+// reference cache's file names (it failed after the first chunk, or was
+// blamed on a label), one holding the "__" that separates scene and label in
+// file names (scene cb's label x_repeat1 and scene cb__x's label repeat1), a
+// resolution no reader of the run reads back, and an adaptive configuration
+// whose spp ends within its uniform passes (it adapted nothing, silently).
+TEST_F(BadExperiment, SceneNamesResolutionsAndAdaptiveBudgetsAreCheckedFirst) {
+  auto edit = [&](const std::string& from, const std::string& to) {
+    std::string text = readFile(writeExperiment());
+    text.replace(text.find(from), from.size(), to);
+    std::ofstream(dir_ / "exp.yaml") << text;
+  };
+  edit("    resolution: [8, 8]", "    name: " + std::string(101, 'n') + "\n    resolution: [8, 8]");
+  expectRefused("exp.yaml:3: 'scenes[0].name': the scene's name 'nnnnnnnnnnnnnnnnnnnnnnnn…' is 101 bytes; at most 100");
+  edit("    resolution: [8, 8]", "    name: " + std::string(100, 'n') + "\n    resolution: [8, 8]");
+  std::string err;
+  EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "results").string(), &err), 0) << err;
+  fs::remove_all(dir_ / "results");
+  edit("    resolution: [8, 8]", "    name: cb__x\n    resolution: [8, 8]");
+  expectRefused("exp.yaml:3: 'scenes[0].name': the scene's name 'cb__x' holds \"__\"");
+  edit("resolution: [8, 8]", "resolution: [8193, 8]");
+  expectRefused("exp.yaml:3: 'scenes[0].resolution': each must be from 1 to 8192");
+  edit("  - {label: a, integrator: path}", "  - {label: a, integrator: path, adaptive: {passes: 8}}");
+  expectRefused("exp.yaml:9: 'budget.spp': 1 samples per pixel end within configuration 'a''s 8 uniform passes");
 }
 
 TEST_F(BadExperiment, AnExperimentThatIsNotARegularFileIsRefused) {
