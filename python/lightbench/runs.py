@@ -1,5 +1,6 @@
 """Reading an experiment's run folder (results/<experiment>/<run-id>) into
 pandas and numpy: the log, the metadata and the images."""
+import csv
 import io
 import json
 import os
@@ -7,7 +8,7 @@ from dataclasses import dataclass, field
 
 import pandas as pd
 
-from ._core import read_exr, slug  # slug: a label as in file names (experiments/experiment.h)
+from ._core import ConfigError, read_exr, slug  # slug: a label as in file names (experiments/experiment.h)
 
 
 @dataclass
@@ -35,10 +36,23 @@ def _read_log(path):
     """log.csv without a torn last row, as `lightbench run --resume` reads it
     (experiments/run_log.cpp): the runner writes whole lines, so a last line
     without its newline is one a killed run left half written."""
-    with open(path, newline="") as f:
+    with open(path, newline="", errors="replace") as f:
         text = f.read()
     if text and not text.endswith("\n"):
         text = text[: text.rfind("\n") + 1]
+    # Any other row short of the header's fields (or a file that is not a
+    # log at all) is refused, naming the file and line, as --resume refuses
+    # it (experiments/run_log.cpp): pandas padded a row torn mid-file with NaN.
+    try:
+        rows = list(csv.reader(io.StringIO(text)))
+    except csv.Error:  # a NUL byte
+        rows = []
+    if not rows or "final" not in rows[0] or "label" not in rows[0]:
+        raise ConfigError(f"{path}:1: not a lightbench log (no 'label' and 'final' columns)")
+    for number, row in enumerate(rows[1:], start=2):
+        if len(row) != len(rows[0]):
+            raise ConfigError(f"{path}:{number}: a row of {len(row)} fields under a header of {len(rows[0])} "
+                              "(a torn or edited row; only the last may be torn, by a killed run)")
     log = pd.read_csv(io.StringIO(text))
     # 1 is final, 0 not; a missing value is not final (astype(bool) made NaN True).
     log["final"] = log["final"] == 1

@@ -65,6 +65,32 @@ snapshots: {{count: 2, spacing: linear}}
     assert len(run.log) == 1 and not run.log["final"].any()
 
 
+def test_load_run_refuses_a_row_torn_before_the_last_and_a_file_that_is_no_log(tmp_path, small_scene):
+    # As --resume refuses them (issue 34, class 10): pandas padded the torn
+    # row with NaN, and random bytes raised a pandas error.
+    exp = tmp_path / "e.yaml"
+    exp.write_text(f"""
+scenes:
+  - {{scene: "{small_scene}", reference: {{integrator: path, spp: 4}}}}
+configurations:
+  - {{label: "PT", integrator: path}}
+budget: {{spp: 2}}
+snapshots: {{count: 2, spacing: linear}}
+""")
+    run_dir = lightbench.run_experiment(exp, results=str(tmp_path / "results"), report=False)
+    log = os.path.join(run_dir, "log.csv")
+    lines = open(log).read().splitlines(keepends=True)
+    assert len(lines) == 3
+    with open(log, "w") as f:
+        f.write(lines[0] + lines[1][: len(lines[1]) // 2] + "\n" + lines[2])
+    with pytest.raises(lightbench.ConfigError, match=r"log\.csv:2: a row of"):
+        lightbench.load_run(run_dir)
+    with open(log, "wb") as f:
+        f.write(bytes(range(256)))
+    with pytest.raises(lightbench.ConfigError, match=r"log\.csv:1: not a lightbench log"):
+        lightbench.load_run(run_dir)
+
+
 def test_ctrl_c_stops_a_render_with_keyboard_interrupt(small_scene, tmp_path):
     script = tmp_path / "long.py"
     script.write_text(textwrap.dedent(f"""
