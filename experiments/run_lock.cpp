@@ -1,5 +1,6 @@
 #include "experiments/run_lock.h"
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/file.h>
 #include <unistd.h>
 #include <cerrno>
@@ -25,12 +26,26 @@ RunLock::RunLock(const std::string& runDir, const std::string& experimentFile, c
   std::string path = (std::filesystem::path(runDir) / FileName).string();
   // O_CLOEXEC: the report script run at the end must not inherit (and so
   // prolong) the lock.
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  // O_NOFOLLOW and O_NONBLOCK, and a regular file only: the pid written
+  // below went through a symbolic link of that name to whatever it named
+  // (issue 34: --resume overwrote /etc/passwd), and a FIFO would block.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK, 0644);
   // Before anything renders, so an unusable lock (a directory of that name,
   // a read-only folder) is bad input: exit 2 and one line, not a late failure.
-  if (fd_ < 0)
-    throw ConfigError(experimentFile, 0, "", "cannot open the lock file " + path + ": " + std::strerror(errno) +
-                                                 (std::filesystem::is_directory(path) ? " (remove that directory)" : ""));
+  if (fd_ < 0) {
+    int err = errno;
+    std::error_code ec;
+    throw ConfigError(experimentFile, 0, "", "cannot open the lock file " + path + ": " +
+                                                 (err == ELOOP ? std::string("it is a symbolic link (remove it)")
+                                                               : std::string(std::strerror(err))) +
+                                                 (std::filesystem::is_directory(path, ec) ? " (remove that directory)" : ""));
+  }
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    fd_ = -1;
+    throw ConfigError(experimentFile, 0, "", "the lock file " + path + " is not a regular file (remove it)");
+  }
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     int err = errno;
     std::string pid = holderPid(fd_);

@@ -66,6 +66,9 @@ bool parseCsvLine(const std::string& line, std::vector<std::string>& out) {
 
 std::vector<std::string> readResumableLog(const std::string& path, std::set<std::string>* completed) {
   std::vector<std::string> kept;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ConfigError(path, 0, "", "not a regular file (a run's log is one); remove it to start the log again");
   if (std::filesystem::exists(path)) {
     std::ifstream in(path);
     std::string line;

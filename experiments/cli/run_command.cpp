@@ -30,6 +30,14 @@ int runExperimentCommand(const RunArgs& args) {
     Experiment e = loadExperiment(args.experiment, eo);
     // Before any reference renders: the results folder (created if missing).
     checkWritableFolder("--results", args.results);
+    // Its two folders, if something else already has their names: found after
+    // the reference had rendered, with exit 1 and a raw filesystem error.
+    for (const std::filesystem::path& sub : {std::filesystem::path(args.results) / e.name,
+                                             std::filesystem::path(args.results) / "references"}) {
+      std::error_code ec;
+      if (std::filesystem::exists(sub, ec) && !std::filesystem::is_directory(sub, ec))
+        throw flagError("--results", sub.string() + " is not a folder (the run writes one there); move it");
+    }
     RunnerOptions ro;
     ro.resultsRoot = args.results;
     ro.resume = args.resume;

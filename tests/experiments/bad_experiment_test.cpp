@@ -263,6 +263,17 @@ TEST_F(BadExperiment, AnUnwritableResultsFolderIsRefusedBeforeRendering) {
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "ref.exr" / "results").string(), &err), 2);
   EXPECT_NE(err.find("'--results': not a folder: " + (dir_ / "ref.exr").string()), std::string::npos) << err;
+  // A file where the run's folder or the references folder would go was
+  // found after the reference rendered (exit 1, a raw filesystem error).
+  for (const char* taken : {"exp", "references"}) {
+    fs::create_directories(dir_ / "taken");
+    std::ofstream(dir_ / "taken" / taken) << "mine\n";
+    EXPECT_EQ(runBinary((dir_ / "exp.yaml").string() + " --results " + (dir_ / "taken").string(), &err), 2) << err;
+    EXPECT_NE(err.find("'--results': " + (dir_ / "taken" / taken).string() + " is not a folder"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_EQ(readFile(dir_ / "taken" / taken), "mine\n");
+    fs::remove_all(dir_ / "taken");
+  }
 }
 
 // Found by hand (issue 12 walkthrough): each used to run, hang or fail late.

@@ -90,6 +90,26 @@ TEST_F(RunFolderState, LockThatIsADirectoryIsRefusedBeforeRendering) {
   expectResumeRefused(runDir, "cannot open the lock file " + (runDir / RunLock::FileName).string());
 }
 
+// The pid went through a symbolic link named as the lock to whatever it
+// named (an adversarial test overwrote /etc/passwd this way).
+TEST_F(RunFolderState, LockThatIsASymbolicLinkIsRefusedAndItsTargetUntouched) {
+  fs::path runDir = finishedRun();
+  fs::path victim = runDir.parent_path() / "victim.txt";
+  std::ofstream(victim) << "precious\n";
+  fs::remove(runDir / RunLock::FileName);
+  fs::create_symlink(victim, runDir / RunLock::FileName);
+  expectResumeRefused(runDir, "cannot open the lock file " + (runDir / RunLock::FileName).string() +
+                                  ": it is a symbolic link (remove it)");
+  EXPECT_EQ(readFile(victim), "precious\n");
+}
+
+TEST_F(RunFolderState, ResumeOverALogThatIsADirectoryIsRefused) {
+  fs::path runDir = finishedRun();
+  fs::remove(runDir / "log.csv");
+  fs::create_directory(runDir / "log.csv");
+  expectResumeRefused(runDir, (runDir / "log.csv").string() + ": not a regular file");
+}
+
 TEST_F(RunFolderState, ResumeOverALogThatIsNotALogIsRefused) {
   fs::path runDir = finishedRun();
   std::ofstream(runDir / "log.csv", std::ios::binary) << std::string("\x8f\x01zq,\xff\n\x02\x03,,\n", 10);
