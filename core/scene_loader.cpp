@@ -85,6 +85,18 @@ void checkLightPowers(LoadContext& ctx, const Scene& scene, Params& root) {
   root.fail("shapes", why);
 }
 
+// Embree takes no ray whose origin has a coordinate beyond 1.844e18
+// (FLT_LARGE: an assertion, exit 134), and rays start at the camera, the
+// lights and every surface, after transforms and world_scale. A tenth of
+// that leaves room for the offsets and an infinite light's disc around the
+// scene (issue 34: a point light at 2e18 aborted).
+constexpr float kMaxCoordinate = 1e17f;
+void checkCoordinates(Params& p, const std::string& key, const Vec3& point) {
+  if (!(std::max({std::abs(point.x), std::abs(point.y), std::abs(point.z)}) <= kMaxCoordinate))
+    p.fail(key, "lies beyond ±1e17 (after transforms and world_scale): rays start there, and Embree traces none "
+                "from beyond ±1.8e18");
+}
+
 void addLight(Scene& scene, LoadContext& ctx, Params& p, const std::string& key, std::unique_ptr<Light> light) {
   ctx.lights.push_back({light.get(), p, key});
   scene.addLight(std::move(light));
@@ -295,9 +307,11 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");
   // An emitter's power, π·L·area (twice if two-sided), weighs its selection
   // as a light's does (checkLightPowers); computed in double, it must fit a float.
+  // Only for an emitter: a large shape that emits nothing was refused under
+  // its `emission`, a key never written (0 × an area beyond a float is NaN).
   if (double phi = (emission.twoSided ? 2 : 1) * Pi * double(std::max({emission.radiance.r, emission.radiance.g, emission.radiance.b})) *
                    double(shape.area());
-      !(phi <= double(std::numeric_limits<float>::max())))
+      !isBlack(emission.radiance) && !(phi <= double(std::numeric_limits<float>::max())))
     p.fail("emission", "the emitter's power (π × radiance × area) is beyond a float's range; lower it");
   p.checkUnused();
   shape.materialId = material;
@@ -309,6 +323,10 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": " +
                              shape.triangleMesh().uvSeam);
   }
+  const Bounds3 box = shape.bounds();
+  const std::string placedBy = p.has("transform") ? "transform" : shape.isSphere() ? "center" : "file";
+  checkCoordinates(p, placedBy, box.lo);
+  checkCoordinates(p, placedBy, box.hi);
   scene.addShape(std::move(shape), emission);
 }
 
@@ -339,9 +357,11 @@ void readLight(Params& p, Scene& scene, LoadContext& ctx) {
   float s = ctx.worldScale;
   if (type == "point") {
     Vec3 pos = p.requireVec3("position") * s;
+    checkCoordinates(p, "position", pos);
     addLight(scene, ctx, p, "intensity", std::make_unique<PointLight>(pos, scaledIntensity(p, s)));
   } else if (type == "spot") {
     Vec3 pos = p.requireVec3("position") * s;
+    checkCoordinates(p, "position", pos);
     Vec3 target = p.requireVec3("look_at") * s;
     if (target == pos) p.fail("look_at", "must differ from position");
     float cone = p.getFloat("cone_angle", 30), start = p.getFloat("falloff_start", cone * 0.8f);
@@ -367,9 +387,13 @@ void readLight(Params& p, Scene& scene, LoadContext& ctx) {
       p.fail("file", e.what());
     }
     float brightest = 0;
-    for (const Color& c : map.pixels) {
-      if (!(c.r >= 0 && c.g >= 0 && c.b >= 0 && std::isfinite(c.r + c.g + c.b)))
-        p.fail("file", "the map has negative or non-finite texels");
+    for (size_t i = 0; i < map.pixels.size(); ++i) {
+      const Color& c = map.pixels[i];
+      // Each channel alone: a sum of finite texels of 3e38 overflowed and
+      // called them non-finite.
+      if (!(c.r >= 0 && c.g >= 0 && c.b >= 0 && std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)))
+        p.fail("file", "the map has a negative or non-finite texel, at (" + std::to_string(i % size_t(map.width)) +
+                           ", " + std::to_string(i / size_t(map.width)) + ")");
       brightest = std::max({brightest, c.r, c.g, c.b});
     }
     float scale = p.getFloat("scale", 1.f);
@@ -440,6 +464,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   fov = verticalFov(fov, axis, width, height);
   if (pos == target) cam->fail("look_at", "must differ from position");
   if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
+  checkCoordinates(*cam, "position", pos * ctx.worldScale);
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
 }
 

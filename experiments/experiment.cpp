@@ -456,7 +456,7 @@ Experiment loadExperiment(const std::string& path, const ExperimentOptions& opti
     budget->fail("seconds", "must be in [0, 30 days] (2592000 s)");
   if (spp < 0) budget->fail("spp", "must not be negative");
   e.budget.spp = uint64_t(spp);
-  if (e.budget.seconds == 0 && e.budget.spp == 0) p.fail("budget", "needs seconds and/or spp");
+  if (e.budget.seconds == 0 && e.budget.spp == 0) p.fail("budget", "needs seconds > 0 and/or spp > 0");
   // An adaptive configuration whose budget ends within its uniform passes
   // adapts nothing: it would be compared as adaptive while it was not (issue
   // 34, class 7; `render --adaptive` says so after the render).

@@ -51,6 +51,10 @@ struct PathLength {
     s.russianRoulette = p.getBool("rr", true, "Russian roulette on the path throughput (pbrt-v4 13.4)");
     s.rrDepth = p.getInt("rr_depth", 3, {"segments before Russian roulette may end a path", Range::atLeast(1)});
     if (s.maxDepth == -1 && !s.russianRoulette) p.fail("max_depth", "unlimited depth needs rr: true to terminate");
+    // Without roulette a path in a closed white box runs to max_depth: 2^31 - 1
+    // ran silently for ever (issue 34). 4096, the bidirectional buffers' size.
+    if (s.maxDepth > 4096 && !s.russianRoulette)
+      p.fail("max_depth", "without rr a path runs to max_depth: at most 4096, or rr: true");
     return s;
   }
 };

@@ -15,7 +15,7 @@ PhotonSettings PhotonSettings::read(Params& p) {
   s.query.filter = filter == "cone" ? PhotonFilter::Cone : filter == "box" ? PhotonFilter::Box : PhotonFilter::Epanechnikov;
   s.finalGather = p.getInt("final_gather", 8,
                            {"gather rays per camera hit into the global map; 0: read the global map directly",
-                            Range::atLeast(0)});
+                            Range::between(0, 4096)});  // 2e9 ran silently for ever (issue 34)
   s.maxDepth = p.getInt("max_depth", 32, {"longest path in segments, camera to light", Range::atLeast(0)});
   s.densityImages = p.getBool("density_images", false, "also write the photon densities as images");
   s.stats = p.getBool("stats", false, "print the maps' sizes and lookup counts");

@@ -51,6 +51,16 @@ TEST_F(BadFlag, OutputNamesTooLongForTheFileSystemAreRefusedFirst) {
   EXPECT_EQ(ok.exitCode, 0) << ok.err;
 }
 
+// Without roulette a path runs to max_depth: 2^31 - 1 in a closed box ran
+// for ever; unlimited (-1) was already refused without rr.
+TEST_F(BadFlag, MaxDepthWithoutRouletteHasAMaximum) {
+  RunResult r = renderWith("--spp 1 --set max_depth=4097 --set rr=false");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("without rr a path runs to max_depth: at most 4096"), std::string::npos) << r.err;
+  EXPECT_TRUE(noOutput());
+  EXPECT_EQ(renderWith("--spp 1 --set max_depth=4096 --set rr=false").exitCode, 0);
+}
+
 // mode: mmlt keeps a chain per path length: a max_depth of 2^31 - 1
 // allocated gigabytes and bootstrapped for ever.
 TEST_F(BadFlag, MultiplexedMltHasAMaximumDepth) {

@@ -386,6 +386,33 @@ TEST_F(BadInput, WideBrightEnvironmentMapSamplesWithoutNaN) {
   EXPECT_NE(r.err.find("NaN/Inf samples: 0"), std::string::npos) << r.err;
 }
 
+// Embree aborts (exit 134) on a ray whose origin lies beyond 1.8e18: a
+// camera, a light or a shape placed there is refused naming its key. And a
+// large shape that emits nothing is not refused under `emission`.
+TEST_F(BadInput, CoordinatesBeyondWhatRaysCanStartFromAreRefused) {
+  expectError(render(write("l.yaml", scene("", "lights: [{type: point, position: [0, 2e18, 1]}]\n"))), "l.yaml:5",
+              "lights[0].position", "lies beyond ±1e17");
+  std::string far = scene("");
+  const std::string near = "position: [0, 1, 4], look_at: [0, 1, 0]";
+  far.replace(far.find(near), near.size(), "position: [1e20, 1, 4], look_at: [1e20, 1, 0]");
+  expectError(render(write("c.yaml", far)), "c.yaml:1", "camera.position", "lies beyond ±1e17");
+  expectError(render(write("s.yaml", scene("  - {type: sphere, center: [0, 0, 3e17], radius: 1}"))), "s.yaml:7",
+              "shapes[1].center", "lies beyond ±1e17");
+  RunResult big = render(write("b.yaml", scene("  - {type: rectangle, transform: {scale: 3e9, translate: [0, 0, -5]}}")));
+  EXPECT_EQ(big.exitCode, 0) << big.err;
+}
+
+// An environment map's texels are checked one channel at a time (a sum of
+// finite texels of 3e38 overflowed and called them non-finite), and a bad
+// texel is named by its coordinates.
+TEST_F(BadInput, EnvironmentMapTexelsAreCheckedAndNamed) {
+  lb::Image sky(4, 2);
+  sky.at(3, 1) = lb::Color(0.5f, -1.f, 0.5f);
+  lb::writeExr((dir_ / "neg.exr").string(), sky);
+  expectError(render(write("n.yaml", scene("", "lights: [{type: environment, file: neg.exr}]\n"))), "n.yaml:5",
+              "lights[0].file", "a negative or non-finite texel, at (3, 1)");
+}
+
 // Issue 34, class 8: a shape's warning (degenerate triangles skipped) was
 // printed before a later key refused the scene: one bad input, one line.
 TEST_F(BadInput, WarningsWaitForTheSceneToBeAccepted) {

@@ -599,7 +599,7 @@ TEST_F(Runner, BadExperimentFilesAreClearErrors) {
   EXPECT_NE(err.find("'configurations[0].params.nea': unknown key; did you mean 'nee'?"), std::string::npos) << err;
   writeExperiment("{}", 1);
   EXPECT_EQ(runBinary((dir_ / "exp.yaml").string(), &err), 2);
-  EXPECT_NE(err.find("'budget': needs seconds and/or spp"), std::string::npos) << err;
+  EXPECT_NE(err.find("'budget': needs seconds > 0 and/or spp > 0"), std::string::npos) << err;
   text = readFile(dir_ / "exp.yaml");
   text.replace(text.find("scene: scene.yaml"), 17, "scene: nowhere.yaml");
   std::ofstream(dir_ / "exp.yaml") << text;
