@@ -59,7 +59,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     Vec2 raster = Vec2(x, y) + sampler.get2D();
     Color L(0.f);
     bidir::sampleAllStrategies(
-        scene, {sampler, sampler, sampler}, settings_.length, settings_.mis, raster, buffers, rays,
+        scene, {sampler, sampler, sampler, true}, settings_.length, settings_.mis, raster, buffers, rays,
         [&](int s, int t, const bidir::Connection& c) {
           Color weighted = c.L * c.weight;
           if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel

@@ -6,7 +6,7 @@
 // over BDPT (`mlt` with base: bdpt, Kelemen et al. 2002 §4), which draws the
 // camera subpath, the light subpath and the connections from three separate
 // streams of its primary sample vector; bdpt passes one sampler for all three,
-// drawn in that order.
+// with each decision at a fixed dimension (BdptDimensions).
 #include <vector>
 #include "core/sampler.h"
 #include "integrators/bidirectional/connect.h"
@@ -20,6 +20,23 @@ struct SampleStreams {
   Sampler& camera;      // the camera subpath's walk (the raster position is the caller's)
   Sampler& light;       // the light subpath
   Sampler& connection;  // what connect() draws (s = 1 light points)
+  // One sampler for all three (bdpt): each decision at a fixed dimension,
+  // BdptDimensions. Otherwise each stream is drawn in order (MLT).
+  bool fixedDimensions = false;
+};
+
+// BDPT's dimensions in one sampler, so that Sobol', ZSobol and Halton
+// stratify the light subpath and the connections too, not only the camera
+// subpath's first vertices: the raster position 0–1 (the caller's), the
+// light's emission 2–7, then 12 per depth k ≥ 1: the camera subpath's
+// scattering at its vertex k, the light subpath's at its vertex k, and next-
+// event estimation (s = 1) at camera vertex k (as the path estimator gives
+// each vertex its range, path_estimator.h).
+struct BdptDimensions {
+  static constexpr uint32_t Emission = 2, First = 8, PerDepth = 12;
+  static WalkDimensions camera() { return {First, PerDepth, 0}; }
+  static WalkDimensions light() { return {First + 4, PerDepth, Emission}; }
+  static uint32_t nee(int cameraVertex) { return First + PerDepth * uint32_t(cameraVertex - 1) + 8; }
 };
 
 // The vertex arrays a sample reuses; sized once from the path length
@@ -42,11 +59,14 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
                          MisWeighting mis, Vec2 raster, SubpathBuffers& buffers, uint64_t& rays,
                          OnStrategy&& onStrategy) {
   const int maxSeg = length.maxSegments();
-  int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays);
+  const bool fixed = streams.fixedDimensions;
+  int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays,
+                                      fixed ? BdptDimensions::camera() : WalkDimensions{});
   int nLight;
   {
     PhaseScope phase(Phase::LightSubpaths);
-    nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays);
+    nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays,
+                                  fixed ? BdptDimensions::light() : WalkDimensions{});
   }
   computePartialSums(scene, mis, Techniques{}, buffers.camera, nCamera, SubpathSide::Camera);
   computePartialSums(scene, mis, Techniques{}, buffers.light, nLight, SubpathSide::Light);
@@ -56,6 +76,7 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
     for (int s = 0; s <= std::max(nLight, 1); ++s) {
       int segments = s + t - 1;
       if ((s == 1 && t == 1) || segments < 1 || segments > maxSeg) continue;  // (1,1) is covered by (0,2) (pbrt-v3)
+      if (fixed && s == 1) streams.connection.setDimension(BdptDimensions::nee(t - 1));
       Connection c = connect(scene, streams.connection, mis, buffers.light, buffers.camera, s, t, rays);
       if (isBlack(c.L) || c.weight == 0) continue;
       onStrategy(s, t, c);

@@ -9,7 +9,8 @@ namespace {
 // Extends `path` from index `start` (whose vertex is path[start - 1]) by
 // sampling the BSDF at each hit; returns the number of vertices added.
 int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ray, Color beta, float pdfFwd,
-               int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays) {
+               int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays,
+               const WalkDimensions& dims) {
   const float startThroughput = maxComponent(beta);
   const float rouletteScale = startThroughput > 0 ? 1 / startThroughput : 1.f;
   if (maxVertices <= 0) return 0;
@@ -33,6 +34,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     ++added;
     if (added >= maxVertices || !si.material) break;
     BSDF bsdf(si);
+    if (dims.stride > 0) sampler.setDimension(dims.first + dims.stride * uint32_t(start + added - 2));
     auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), mode);
     if (!bs) break;
     beta *= bs->weight;
@@ -66,7 +68,7 @@ int maxSegments(const PathLength& s) { return s.maxSegments(); }
 }  // namespace
 
 int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, Vec2 raster,
-                          std::vector<Vertex>& path, uint64_t& rays) {
+                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dims) {
   if (maxSegments(s) < 1) return 0;
   Ray ray = scene.camera.generateRay(raster);
   path[0] = cameraVertex(scene.camera, Color(1.f));
@@ -76,12 +78,13 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength
   // past the caller's array, which caps "unlimited" depth).
   int room = int(path.size()) - 1;
   return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, std::min(maxSegments(s), room),
-                        TransportMode::Radiance, path, 1, rays);
+                        TransportMode::Radiance, path, 1, rays, dims);
 }
 
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, std::vector<Vertex>& path,
-                         uint64_t& rays) {
+                         uint64_t& rays, const WalkDimensions& dims) {
   if (maxSegments(s) < 1) return 0;
+  if (dims.stride > 0) sampler.setDimension(dims.emission);
   auto emitted = sampleEmission(scene, sampler);
   if (!emitted) return 0;
   const Light* light = emitted->light;
@@ -90,7 +93,7 @@ int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength&
   Color beta = emitted->beta;
   // The light subpath needs at most max_depth vertices (s + t - 1 <= max_depth with t >= 1).
   int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, std::min(maxSegments(s) - 1, int(path.size()) - 1),
-                         TransportMode::Importance, path, 1, rays);
+                         TransportMode::Importance, path, 1, rays, dims);
   if (light->isInfinite()) {
     // Lights at infinity: the first hit's density is the disc's (per area),
     // and the light vertex's own density is per solid angle (pbrt-v3).

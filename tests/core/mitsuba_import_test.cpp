@@ -10,6 +10,7 @@
 #include "core/scene_loader.h"
 #include "tests/support/mitsuba_snippets.h"
 #include "tests/support/render_helpers.h"
+#include "tests/support/repeats.h"
 
 namespace lb {
 namespace {
@@ -276,38 +277,53 @@ TEST(MitsubaImport, EmittersBecomeLightsWithMitsubasDefaults) {
 }
 
 // Two unbiased integrators on each imported scene: the same image in
-// expectation (per-region z-tests, Šidák-corrected 1e-3), which holds only if
-// the importer built a consistent scene (emitters, BSDFs and normals that
-// both transport directions see alike). The path tracer's samples are heavy-
-// tailed where light reaches a wall off the lamp's glossy shade (veach-bidir):
-// at 2048 spp its mean and its variance were both low there (z = -5.5 in
-// the top-right region, gone at 8x the samples and another seed), so the
-// z-test's normal approximation needs the sample counts below.
-void expectPathAndBdptAgree(const SceneFile& sf, const std::string& scene, uint64_t spp) {
-  test::RenderSpec spec;
-  spec.params = "{max_depth: " + sf.integrator["max_depth"].as<std::string>() + "}";
-  spec.spp = spp;
-  spec.seed = 3;
-  auto path = test::renderScene(sf, spec);
-  spec.integrator = "bdpt";
-  spec.seed = 4;
-  spec.spp = spp / 4;
-  auto bdpt = test::renderScene(sf, spec);
-  std::string failures = test::compareRegions(test::regionMeans(*path, 4, 4), test::regionMeans(*bdpt, 4, 4), 1e-3);
+// expectation, which holds only if the importer built a consistent scene
+// (emitters, BSDFs and normals that both transport directions see alike).
+// Region means are compared Šidák-corrected at 1e-3, in one of two ways.
+// By default, one render of each and a z-test on its per-pixel variance.
+// Where the path tracer's samples are heavy-tailed (a glossy surface
+// reflecting a small light: veach-mis, veach-bidir) one render's variance is
+// usually too small and that z-test is miscalibrated: on veach-mis its region
+// (0,2) had a mean z of -1.2 (sd 1.1) over 30 seed pairs at 1024/256 spp and
+// of -1.5 (sd 2.3) at 8x the samples, where the means agreed to 0.06 % across
+// seeds, so it failed at about 1 seed in 30. There, `acrossSeeds`: the region
+// means of 8 seeds of each, compared by Welch's t on the seeds' spread.
+// (Its 7 degrees of freedom cost power: on the water caustic it misses a
+// 20 % scale that the z-test finds, so that scene keeps the z-test.)
+void expectPathAndBdptAgree(const SceneFile& sf, const std::string& scene, uint64_t spp, bool acrossSeeds) {
+  std::string params = "{max_depth: " + sf.integrator["max_depth"].as<std::string>() + "}";
+  std::string failures;
+  if (acrossSeeds) {
+    const int seeds = 8;
+    test::SeedMeans path = test::seedMeans(sf, {"path", params, spp / seeds}, seeds, 4, 4, 3);
+    test::SeedMeans bdpt = test::seedMeans(sf, {"bdpt", params, spp / 4 / seeds}, seeds, 4, 4, 1003);
+    failures = test::compareSeedMeans(path, bdpt, 1e-3, 4 * 4 * 3);
+  } else {
+    test::RenderSpec spec;
+    spec.params = params;
+    spec.spp = spp;
+    spec.seed = 3;
+    auto path = test::renderScene(sf, spec);
+    spec.integrator = "bdpt";
+    spec.seed = 4;
+    spec.spp = spp / 4;
+    auto bdpt = test::renderScene(sf, spec);
+    failures = test::compareRegions(test::regionMeans(*path, 4, 4), test::regionMeans(*bdpt, 4, 4), 1e-3);
+  }
   EXPECT_TRUE(failures.empty()) << scene << "\n" << failures;
 }
 
-void expectPathAndBdptAgree(const std::string& scene, int width, int height, uint64_t spp) {
+void expectPathAndBdptAgree(const std::string& scene, int width, int height, uint64_t spp, bool acrossSeeds) {
   YAML::Node size = YAML::Load("{film: {width: " + std::to_string(width) + ", height: " + std::to_string(height) + "}}");
-  expectPathAndBdptAgree(loadScene(sourcePath(scene), size), scene, spp);
+  expectPathAndBdptAgree(loadScene(sourcePath(scene), size), scene, spp, acrossSeeds);
 }
 
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachMisScene) {
-  expectPathAndBdptAgree("scenes/external/veach-mis/scene.xml", 32, 18, 1024);
+  expectPathAndBdptAgree("scenes/external/veach-mis/scene.xml", 32, 18, 1024, true);
 }
 
 TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedVeachBidirScene) {
-  expectPathAndBdptAgree("scenes/external/veach-bidir/scene.xml", 24, 24, 16384);
+  expectPathAndBdptAgree("scenes/external/veach-bidir/scene.xml", 24, 24, 16384, true);
 }
 
 // water-caustic's light is 5 × 4 mm: both estimators find the caustic seen
@@ -340,7 +356,7 @@ TEST(MitsubaImport, PathAndBdptAgreeOnTheImportedWaterCausticWithALargerLight) {
   YAML::Emitter out;
   out << root;
   // Named as the scene file, so that its meshes resolve beside it.
-  expectPathAndBdptAgree(loadSceneFromString(out.c_str(), path), "water-caustic, larger light", 4096);
+  expectPathAndBdptAgree(loadSceneFromString(out.c_str(), path), "water-caustic, larger light", 4096, false);
 }
 
 }  // namespace
