@@ -1,4 +1,5 @@
 #include "core/film.h"
+#include <limits>
 #include <cmath>
 #include <algorithm>
 
@@ -65,11 +66,18 @@ glm::dvec3 meanVariance(const glm::dvec3& sum, const glm::dvec3& sumSq, double n
 }
 }  // namespace
 
-Image Film::varianceOfMean() const {
+Image Film::varianceOfMean(size_t* overflowed) const {
   Image img(width_, height_);
-  for (size_t i = 0; i < sum_.size(); ++i)
-    img.pixels[i] = Color(meanVariance(sum_[i], sumSq_[i], double(count_[i])) +
-                          meanVariance(passSum_[i], passSumSq_[i], double(passes_)));
+  const double largest = double(std::numeric_limits<float>::max());
+  size_t beyond = 0;
+  for (size_t i = 0; i < sum_.size(); ++i) {
+    glm::dvec3 v = meanVariance(sum_[i], sumSq_[i], double(count_[i])) +
+                   meanVariance(passSum_[i], passSumSq_[i], double(passes_));
+    if (!(v.x <= largest && v.y <= largest && v.z <= largest)) ++beyond;
+    auto fit = [&](double c) { return float(c <= largest ? c : largest); };  // NaN (Inf - Inf) too
+    img.pixels[i] = Color(fit(v.x), fit(v.y), fit(v.z));
+  }
+  if (overflowed) *overflowed = beyond;
   return img;
 }
 

@@ -81,7 +81,10 @@ class Film {
   Image image() const;
   // Per-pixel variance of the pixel estimate, per channel: s²/n for each kind
   // of contribution (an integrator uses one kind).
-  Image varianceOfMean() const;
+  // Channels beyond a float's range (a pixel of 1e22 has a variance of
+  // ~1e44) are written as the largest float, and counted in `overflowed`,
+  // so no +Inf reaches an image (issue 34).
+  Image varianceOfMean(size_t* overflowed = nullptr) const;
   double meanVarianceOfMean() const;  // over pixels and channels; NaN if passesCorrelated()
 
   // Thread-safe.

@@ -463,6 +463,9 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   if (!(fov > 0 && fov < 180)) cam->fail("fov", "must be in (0, 180) degrees");
   fov = verticalFov(fov, axis, width, height);
   if (pos == target) cam->fail("look_at", "must differ from position");
+  // A vector like [0, 1e-40, 0] has a direction a float cannot normalise.
+  if (!(std::max({std::abs(up.x), std::abs(up.y), std::abs(up.z)}) >= 1e-18f))
+    cam->fail("up", "is too short to have a direction (each component below 1e-18); give a unit vector");
   if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
   checkCoordinates(*cam, "position", pos * ctx.worldScale);
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);

@@ -126,6 +126,27 @@ MitsubaImport Translator::run() {
                                  : "undefined entity '" + ref + "' (XML predefines only &lt; &gt; &amp; &apos; &quot;)");
   }
 
+  // An attribute given twice in one element is not well-formed XML (XML 1.0,
+  // 3.1, "Unique Att Spec"); pugixml keeps both and the first was read.
+  struct DuplicateAttribute : pugi::xml_tree_walker {
+    pugi::xml_node at;
+    std::string name;
+    bool for_each(pugi::xml_node& n) override {
+      for (pugi::xml_attribute a = n.first_attribute(); a; a = a.next_attribute())
+        for (pugi::xml_attribute b = a.next_attribute(); b; b = b.next_attribute())
+          if (std::string(a.name()) == b.name()) {
+            at = n, name = a.name();
+            return false;
+          }
+      return true;
+    }
+  } duplicate;
+  doc.traverse(duplicate);
+  if (duplicate.at)
+    throw ConfigError(xml_.path(), xml_.lineOf(duplicate.at), "",
+                      "<" + std::string(duplicate.at.name()) + "> gives attribute '" + duplicate.name +
+                          "' twice (XML allows each attribute once)");
+
   // <scene version="0.5.0"> or "3.0.0": below 2 the properties are camelCase.
   std::string version = scene.attribute("version").value();
   char* end = nullptr;

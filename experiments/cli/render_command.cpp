@@ -196,7 +196,13 @@ std::vector<ExrLayer> aovLayers(const std::vector<std::string>& wanted, const Sc
     if (asked("normal")) layers.push_back({"normal", {"X", "Y", "Z"}, std::move(first.normal)});
     if (asked("depth")) layers.push_back({"depth", {"Z"}, std::move(first.depth)});
   }
-  if (asked("variance")) layers.push_back({"variance", {"R", "G", "B"}, film.varianceOfMean()});
+  if (asked("variance")) {
+    size_t overflowed = 0;
+    layers.push_back({"variance", {"R", "G", "B"}, film.varianceOfMean(&overflowed)});
+    if (overflowed)
+      std::cerr << "warning: the variance layer is beyond a float's range in " << overflowed
+                << " pixel(s), written as the largest float (3.4e38)\n";
+  }
   if (asked("spp")) {
     Image count(film.width(), film.height());
     for (int y = 0; y < film.height(); ++y)

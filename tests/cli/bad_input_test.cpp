@@ -402,6 +402,14 @@ TEST_F(BadInput, CoordinatesBeyondWhatRaysCanStartFromAreRefused) {
   EXPECT_EQ(big.exitCode, 0) << big.err;
 }
 
+// up: [0, 1e-40, 0] was called "parallel to the view direction".
+TEST_F(BadInput, AnUpVectorTooShortToHaveADirectionSaysSo) {
+  std::string text = scene("");
+  const std::string look = "look_at: [0, 1, 0]";
+  text.replace(text.find(look), look.size(), look + ", up: [0, 1e-40, 0]");
+  expectError(render(write("u.yaml", text)), "u.yaml:1", "camera.up", "is too short to have a direction");
+}
+
 // An environment map's texels are checked one channel at a time (a sum of
 // finite texels of 3e38 overflowed and called them non-finite), and a bad
 // texel is named by its coordinates.
@@ -411,6 +419,18 @@ TEST_F(BadInput, EnvironmentMapTexelsAreCheckedAndNamed) {
   lb::writeExr((dir_ / "neg.exr").string(), sky);
   expectError(render(write("n.yaml", scene("", "lights: [{type: environment, file: neg.exr}]\n"))), "n.yaml:5",
               "lights[0].file", "a negative or non-finite texel, at (3, 1)");
+}
+
+// A pixel of 1e35 has a variance of ~1e70: the variance layer held +Inf
+// while the render said "NaN/Inf samples: 0". Written as the largest float,
+// and said.
+TEST_F(BadInput, VarianceLayerBeyondAFloatIsClampedAndSaid) {
+  RunResult r = render(write("v.yaml", scene("", "lights: [{type: point, position: [0, 1, 1], intensity: 1e36}]\n")),
+                       "--aov variance", "--spp 4");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: the variance layer is beyond a float's range in"), std::string::npos) << r.err;
+  lb::Image variance = lb::readExrLayer((dir_ / "out" / "image.exr").string(), "variance");
+  for (const lb::Color& c : variance.pixels) ASSERT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
 }
 
 // Issue 34, class 8: a shape's warning (degenerate triangles skipped) was

@@ -116,6 +116,14 @@ TEST_F(BadInput, MitsubaSecondFilmOrSamplerInASensorIsRefused) {
   expectError(render(f), "many.xml:4:", "sample_count", "");
 }
 
+// value="40" value="90": not well-formed XML; pugixml kept both and the
+// first was read, silently.
+TEST_F(BadInput, MitsubaAttributeGivenTwiceIsRefused) {
+  std::string shape = "<shape type=\"sphere\">\n<float name=\"radius\" value=\"1\" value=\"2\"/>\n"
+                      "<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n";
+  expectError(render(write("dup.xml", xmlScene(shape))), "dup.xml:5:", "", "<float> gives attribute 'value' twice");
+}
+
 TEST_F(BadInput, MitsubaRefusedSceneIsOneLineWithoutItsWarnings) {
   // An unsupported element (a warning) before a missing environment map (the error).
   std::string f = write("env.xml", xmlScene("<medium type=\"homogeneous\"/>\n<emitter type=\"envmap\"><string name=\"filename\" value=\"nope.exr\"/></emitter>\n"));
