@@ -187,6 +187,10 @@ int Params::getInt(const std::string& key, int fallback, const KeySpec& spec) {
       if (!n.IsScalar()) throw YAML::Exception(YAML::Mark(), "");
       v = n.as<int>();
     } catch (const YAML::Exception&) {
+      // A whole number too large for an int was called "not an integer".
+      long long wide = 0;
+      if (n.IsScalar() && YAML::convert<long long>::decode(n, wide))
+        fail(key, "must be a whole number in [-2147483648, 2147483647], got " + n.Scalar());
       fail(key, "expected an integer, got " + shapeOf(n));
     }
   }

@@ -191,6 +191,12 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   std::optional<RunLock> lock;
   if (!runDir.empty()) {
     if (fs::exists(runDir / "meta.json")) {
+      // A meta.json that is not one the runner wrote (truncated, edited) is
+      // named as such, not taken for a changed experiment.
+      if (readExperimentHash(runDir.string()).empty())
+        throw ConfigError((runDir / "meta.json").string(), 0, "experiment_hash",
+                          "not a run's metadata (unreadable JSON or no experiment_hash): this run folder cannot be "
+                          "resumed; run without --resume to start a new run");
       if (readExperimentHash(runDir.string()) != experimentHash)
         throw ConfigError(e.file, 0, "--resume",
                           "the experiment, its budget or its references changed since " + runDir.string() +

@@ -312,6 +312,9 @@ TEST_F(BadExperiment, OutOfRangeSettingsAreRefusedFirst) {
   expectRefused("exp.yaml:11: 'seed': must not be negative");
   writeExperiment("{integrator: path, spp: 2, seed: -3}");
   expectRefused("exp.yaml:4: 'scenes[0].reference.seed': must not be negative");
+  // Beyond an int: said so, where it was "expected an integer, got 2147483648".
+  writeExperiment("{file: ref.exr}", "[0, 0, 8, 8]", "{mis: power}", "seed: 2147483648\n");
+  expectRefused("exp.yaml:11: 'seed': must be a whole number in [-2147483648, 2147483647], got 2147483648");
 }
 
 // The verdict's keys (issue 32): each refusal names its line and key, and

@@ -103,6 +103,14 @@ TEST_F(RunFolderState, LockThatIsASymbolicLinkIsRefusedAndItsTargetUntouched) {
   EXPECT_EQ(readFile(victim), "precious\n");
 }
 
+// A truncated meta.json was explained as "the experiment ... changed".
+TEST_F(RunFolderState, ResumeOverATruncatedMetaJsonNamesIt) {
+  fs::path runDir = finishedRun();
+  std::string meta = readFile(runDir / "meta.json");
+  std::ofstream(runDir / "meta.json", std::ios::trunc) << meta.substr(0, meta.size() / 2);
+  expectResumeRefused(runDir, (runDir / "meta.json").string() + ": 'experiment_hash': not a run's metadata");
+}
+
 TEST_F(RunFolderState, ResumeOverALogThatIsADirectoryIsRefused) {
   fs::path runDir = finishedRun();
   fs::remove(runDir / "log.csv");
