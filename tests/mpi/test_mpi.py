@@ -190,6 +190,31 @@ def test_bad_input_under_mpi_is_one_line_from_rank_0(tmp_path):
     assert not (tmp_path / "results" / "bad").exists()
 
 
+def test_a_workers_note_waits_for_its_first_task(tmp_path):
+    """Issue 34, class 8: a worker bound to fewer cores than its share says
+    so, but only once it has work: for bad input rank 0's error is the only
+    line lightbench prints. The good run shows the note does appear under
+    this binding (two ranks bound to one core each, one worker with a share
+    of two), so the test can fail."""
+    tiny = TINY.read_text().replace("../../scenes/", str(SOURCE_DIR / "scenes") + "/")
+    def bound(experiment, results):
+        return subprocess.run([MPIRUN, "--allow-run-as-root", "--bind-to", "core", "-np", "2", BINARY, "run",
+                               str(experiment), "--results", str(results), "--no-report"],
+                              capture_output=True, text=True, timeout=600)
+    good = tmp_path / "good.yaml"
+    good.write_text(tiny)
+    r = bound(good, tmp_path / "results")
+    assert r.returncode == 0, r.stderr
+    if os.cpu_count() < 2 or "note: may use 1 of" not in r.stderr:
+        pytest.skip("mpirun did not bind the worker to fewer cores than its share here")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(tiny.replace("integrator: light}", "integrator: lihgt}"))
+    r = bound(bad, tmp_path / "results2")
+    assert r.returncode == 2
+    ours = [l for l in r.stderr.splitlines() if l.startswith("error:") or "note:" in l or l.startswith("[rank")]
+    assert len(ours) == 1 and ours[0].startswith("error:") and "bad.yaml:" in ours[0], r.stderr
+
+
 def test_a_worker_reading_other_files_refuses_its_tasks(tmp_path):
     """Every rank reads the experiment and its scenes itself (a shared file
     system); a rank that sees other bytes (a stale copy on a node) must not
