@@ -164,6 +164,23 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
                   (hint.empty() ? "" : "; did you mean '" + hint + "'?") + " (subcommands: " + list + ")";
       }
     }
+    // A mistyped flag ("--thread"): CLI11 lists what it did not expect.
+    if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+      std::vector<CLI::App*> parsed = app.get_subcommands();
+      const CLI::App* where = parsed.empty() ? &app : parsed.back();
+      std::vector<std::string> flags;
+      for (const CLI::Option* o : where->get_options())
+        for (const std::string& name : o->get_lnames()) flags.push_back("--" + name);
+      for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        arg = arg.substr(0, arg.find('='));
+        if (arg.rfind("--", 0) != 0 || std::find(flags.begin(), flags.end(), arg) != flags.end()) continue;
+        std::string hint = closestMatch(arg, flags);
+        message = "unknown flag '" + arg + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?") +
+                  " (`lightbench " + (parsed.empty() ? std::string() : where->get_name() + " ") + "--help` lists them)";
+        break;
+      }
+    }
     for (char& c : message)
       if (c == '\n') c = ' ';
     std::cerr << "error: " << message << "\n";

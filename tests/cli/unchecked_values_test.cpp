@@ -53,6 +53,15 @@ TEST_F(UncheckedValue, MistypedSubcommandIsNamedWithASuggestion) {
   EXPECT_NE(r.err.find("unknown subcommand 'rendr'; did you mean 'render'?"), std::string::npos) << r.err;
 }
 
+// "--thread 1" got CLI11's "The following arguments were not expected".
+TEST_F(UncheckedValue, MistypedFlagIsNamedWithASuggestion) {
+  RunResult r = run("render " + validScene() + " --spp 1 --thread 1 -o " + (dir_ / "out" / "x.exr").string());
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("unknown flag '--thread'; did you mean '--threads'?"), std::string::npos) << r.err;
+  EXPECT_TRUE(noOutput());
+}
+
 // It used to prepare the scene and integrator, then fail with exit 1 and no flag named.
 TEST_F(UncheckedValue, PixelReplayIsRefusedForIntegratorsThatCannotReplay) {
   for (const char* integrator : {"bdpt", "vcm", "mlt", "light"}) {
