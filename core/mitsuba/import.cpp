@@ -123,7 +123,10 @@ MitsubaImport Translator::run() {
     std::string ref = text_.substr(bad, end != std::string::npos && text_[end] == ';' ? end - bad + 1 : 1);
     throw ConfigError(xml_.path(), xml_.lineAt(ptrdiff_t(bad)), "",
                       ref == "&" ? "a bare '&' (write it as &amp;)"
-                                 : "undefined entity '" + ref + "' (XML predefines only &lt; &gt; &amp; &apos; &quot;)");
+                                 : "undefined entity '" + ref + "' (XML predefines only &lt; &gt; &amp; &apos; &quot;" +
+                                       (text_.find("<!ENTITY") != std::string::npos
+                                            ? "; entities declared in a DTD are not read)"
+                                            : ")"));
   }
 
   // An attribute given twice in one element is not well-formed XML (XML 1.0,

@@ -73,6 +73,10 @@ TEST_F(BadInput, MitsubaUndefinedEntityIsRefused) {
   std::string shape = "<shape type=\"obj\">\n<string name=\"filename\" value=\"&mesh;.obj\"/></shape>\n";
   expectError(render(write("ent.xml", xmlScene(kLitSphere + shape))), "ent.xml:6:", "", "undefined entity '&mesh;'");
   fs::remove_all(dir_ / "out");
+  // One declared in a DTD is not read, and said so.
+  fs::remove_all(dir_ / "out");
+  expectError(render(write("dtd.xml", "<!DOCTYPE scene [<!ENTITY mesh \"m\">]>\n" + xmlScene(kLitSphere + shape))),
+              "dtd.xml:7:", "", "entities declared in a DTD are not read");
   std::string bare = "<shape type=\"obj\">\n<string name=\"filename\" value=\"a&b.obj\"/></shape>\n";
   expectError(render(write("amp.xml", xmlScene(kLitSphere + bare))), "amp.xml:6:", "", "a bare '&'");
   // The predefined ones, numeric references and anything in a comment are fine.
