@@ -83,10 +83,15 @@ Image Film::varianceOfMean(size_t* overflowed) const {
 
 double Film::meanVarianceOfMean() const {
   if (passesCorrelated_) return std::nan("");
-  Image v = varianceOfMean();
+  // In double, unclamped: a variance beyond a float stays +Inf in the log
+  // rather than a sum of clamped values that means nothing.
   double total = 0;
-  for (const Color& c : v.pixels) total += double(c.r) + c.g + c.b;
-  return v.pixels.empty() ? 0 : total / (3.0 * v.pixels.size());
+  for (size_t i = 0; i < sum_.size(); ++i) {
+    glm::dvec3 v = meanVariance(sum_[i], sumSq_[i], double(count_[i])) +
+                   meanVariance(passSum_[i], passSumSq_[i], double(passes_));
+    total += v.x + v.y + v.z;
+  }
+  return sum_.empty() ? 0 : total / (3.0 * double(sum_.size()));
 }
 
 std::vector<NonFiniteSample> Film::firstNonFinite() const {

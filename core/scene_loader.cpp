@@ -35,9 +35,10 @@ namespace {
 
 // A light as its file gave it, for checks that need the built scene.
 struct LightSource {
-  const Light* light;
+  const Light* light;  // null for an emitting shape (its light is built with the scene)
   Params params;
-  std::string key;  // the key its power comes from
+  std::string key;     // the key its power comes from
+  double power = 0;    // its largest channel's power, in double (set once known)
 };
 
 struct LoadContext {
@@ -58,31 +59,33 @@ struct LoadContext {
 // and a light chosen with probability NaN or 0 rendered black with no NaN
 // counted (issue 34). Checked once the scene is built (an environment's or a
 // directional light's power depends on the scene's radius), naming the key.
-// The lights' powers are summed too, in double, emitting shapes included: a
-// light subpath's starting throughput Le / (selection pmf · pdf) is the total
-// power (times the light count under uniform selection), so three point
-// lights of 1e37 each overflowed it although each alone was finite. Blamed on
-// the brightest light written in `lights`, or on `shapes` if it is an emitter.
-void checkLightPowers(LoadContext& ctx, const Scene& scene, Params& root) {
+// The lights' powers together, in double, emitting shapes included: a light
+// subpath's starting throughput Le / (selection pmf · pdf) is the lights'
+// total power under selection by power, and the light count times the
+// brightest light's under uniform selection; three point lights of 1e37
+// passed the per-light check and overflowed it together. Blamed on the
+// brightest light's key.
+void checkLightPowers(LoadContext& ctx, LightSelection selection) {
   for (LightSource& s : ctx.lights) {
+    if (!s.light) continue;  // an emitting shape: checked in readShape
     Color phi = s.light->power();
     if (!(std::isfinite(phi.r) && std::isfinite(phi.g) && std::isfinite(phi.b) && std::isfinite(luminance(phi))))
       s.params.fail(s.key, "the light's power (its emitted flux) is beyond a float's range; lower it");
   }
   double total = 0, brightest = 0;
-  const Light* brightestLight = nullptr;
-  for (const auto& light : scene.lights()) {
-    Color phi = light->power();
-    double p = double(std::max({phi.r, phi.g, phi.b}));
-    total += p;
-    if (p > brightest) brightest = p, brightestLight = light.get();
+  LightSource* brightestSource = nullptr;
+  for (LightSource& s : ctx.lights) {
+    total += s.power;
+    if (s.power >= brightest) brightest = s.power, brightestSource = &s;
   }
-  if (total * double(scene.lights().size()) <= double(std::numeric_limits<float>::max())) return;
-  const std::string why = "the lights' total power (their emitted flux, summed, times the number of lights) is beyond a "
-                          "float's range, which a light path's throughput must hold; lower it";
-  for (LightSource& s : ctx.lights)
-    if (s.light == brightestLight) s.params.fail(s.key, why);
-  root.fail("shapes", why);
+  double throughput = selection == LightSelection::Power ? total : brightest * double(ctx.lights.size());
+  if (brightestSource && !(throughput <= double(std::numeric_limits<float>::max())))
+    brightestSource->params.fail(brightestSource->key,
+                                 selection == LightSelection::Power
+                                     ? "the lights' total power (their emitted flux, summed) is beyond a float's range, "
+                                       "which a light path's throughput must hold; lower it"
+                                     : "the brightest light's power times the number of lights (uniform selection) is "
+                                       "beyond a float's range, which a light path's throughput must hold; lower it");
 }
 
 // Embree takes no ray whose origin has a coordinate beyond 1.844e18
@@ -313,6 +316,8 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
                    double(shape.area());
       !isBlack(emission.radiance) && !(phi <= double(std::numeric_limits<float>::max())))
     p.fail("emission", "the emitter's power (π × radiance × area) is beyond a float's range; lower it");
+  else if (!isBlack(emission.radiance))
+    ctx.lights.push_back({nullptr, p, "emission", phi});
   p.checkUnused();
   shape.materialId = material;
   shape.triangleMaterials = std::move(triangleMaterials);
@@ -324,7 +329,11 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
                              shape.triangleMesh().uvSeam);
   }
   const Bounds3 box = shape.bounds();
-  const std::string placedBy = p.has("transform") ? "transform" : shape.isSphere() ? "center" : "file";
+  // The key that put it there: a sphere's center if that alone is too far,
+  // else its radius (or its transform); a mesh's transform, else its file.
+  std::string placedBy = p.has("transform") ? "transform" : shape.isSphere() ? "radius" : "file";
+  if (shape.isSphere() && !(std::max({std::abs(box.center().x), std::abs(box.center().y), std::abs(box.center().z)}) <= kMaxCoordinate))
+    placedBy = "center";
   checkCoordinates(p, placedBy, box.lo);
   checkCoordinates(p, placedBy, box.hi);
   scene.addShape(std::move(shape), emission);
@@ -471,7 +480,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
 }
 
-SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
+SceneFile loadFromNode(const YAML::Node& root, const std::string& path, bool deferWarnings = false) {
   SceneFile out;
   out.path = path;
   out.scene = std::make_unique<Scene>();
@@ -507,9 +516,18 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path) {
   }
   p.checkUnused();
   out.degenerateTriangles = ctx.degenerateTriangles;
-  scene.build(selection == "power" ? LightSelection::Power : LightSelection::Uniform);
-  checkLightPowers(ctx, scene, p);
-  for (const std::string& w : ctx.warnings) warn(w);
+  const LightSelection rule = selection == "power" ? LightSelection::Power : LightSelection::Uniform;
+  scene.build(rule);
+  // Environment and directional lights' powers depend on the scene's radius: known once it is built.
+  for (LightSource& s : ctx.lights)
+    if (s.light) {
+      Color phi = s.light->power();
+      s.power = double(std::max({phi.r, phi.g, phi.b}));
+    }
+  checkLightPowers(ctx, rule);
+  if (deferWarnings) out.warnings = ctx.warnings;
+  else
+    for (const std::string& w : ctx.warnings) warn(w);
   return out;
 }
 
@@ -583,7 +601,7 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
   applyOverrides(root, overrides);
   SceneFile out;
   try {
-    out = loadFromNode(root, path);
+    out = loadFromNode(root, path, options.deferWarnings);
   } catch (const ConfigError& e) {
     if (e.line() > 0 || e.file() != path) throw;
     std::pair<std::string, int> best{"", 0};
@@ -598,8 +616,12 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
     throw ConfigError(path, best.second, "", what.compare(0, prefix.size(), prefix) == 0 ? what.substr(prefix.size()) : what);
   }
   // Only now: a scene refused gets its one error line, not warnings first.
-  if (!options.quiet)
-    for (const ImportWarning& w : imp.warnings) warn(w.text(path));
+  if (!options.quiet) {
+    std::vector<std::string> imported;
+    for (const ImportWarning& w : imp.warnings) imported.push_back(w.text(path));
+    out.warnings.insert(out.warnings.begin(), imported.begin(), imported.end());
+  }
+  if (!options.deferWarnings) printSceneWarnings(out);
   out.description = description;
   out.sceneSpp = imp.sampleCount;
   out.sharedIntegratorKeys = imp.sharedIntegratorKeys;
@@ -626,9 +648,14 @@ SceneFile loadScene(const std::string& path, const YAML::Node& overrides, const 
   YAML::Node root = loadYamlFile(path);
   YAML::Node description = YAML::Clone(root);
   applyOverrides(root, overrides);
-  SceneFile out = loadFromNode(root, path);
+  SceneFile out = loadFromNode(root, path, options.deferWarnings);
   out.description = description;
   return out;
+}
+
+void printSceneWarnings(SceneFile& scene) {
+  for (const std::string& w : scene.warnings) warn(w);
+  scene.warnings.clear();
 }
 
 YAML::Node loadSceneDescription(const std::string& path) {

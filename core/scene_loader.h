@@ -23,12 +23,20 @@ struct SceneFile {
   // to whichever integrator renders, not only to the one the file names.
   std::vector<std::string> sharedIntegratorKeys;
   size_t importWarnings = 0;
+  // With SceneLoadOptions::deferWarnings, the warnings the loader would have
+  // printed; the caller prints them once it has accepted the whole input
+  // (printSceneWarnings), so a refused one is one error line (issue 34).
+  std::vector<std::string> warnings;
 };
 
 struct SceneLoadOptions {
   bool strict = false;  // an unsupported element of an imported scene is an error, not a warning
   bool quiet = false;   // an imported scene's warnings are not printed (an earlier load printed them)
+  bool deferWarnings = false;  // kept in SceneFile::warnings instead of printed
 };
+
+// Prints a scene's deferred warnings ("warning: ..."), once.
+void printSceneWarnings(SceneFile& scene);
 
 // An integrator's parameters for rendering `scene`: `params`, plus the scene's
 // shared integrator keys (an imported scene's max_depth) that `params` does

@@ -194,7 +194,9 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
     Image mean = readExr(cache.mean.string()), variance = readExr(cache.variance.string());
     if (mean.width != width || mean.height != height || variance.width != width || variance.height != height)
       return false;
-    checkFiniteVariance(s, variance, "cached reference " + cache.variance.string());
+    // Only an older build wrote one (this one refuses before writing): not
+    // removed here, outside the references folder's lock; the message says so.
+    checkFiniteVariance(s, variance, "cached reference " + cache.variance.string() + " (delete it and its .exr and .yaml)");
     acc.restore(mean, variance, chunks);
     seconds = cachedSeconds;
     nonFinite = uint64_t(info.getInt("non_finite_samples", 0));
@@ -246,7 +248,8 @@ Reference obtainReference(const ExperimentScene& s, const std::string& resultsRo
       checkFiniteVariance(s, varianceImage, "reference " + referenceName(s));
     } catch (const ConfigError&) {
       // A refused reference leaves no chunk behind to be served later.
-      for (const auto& f : {cache.mean, cache.variance, cache.sidecar}) std::filesystem::remove(f);
+      std::error_code ec;  // the refusal stays the error, whatever removing gives
+      for (const auto& f : {cache.mean, cache.variance, cache.sidecar}) std::filesystem::remove(f, ec);
       throw;
     }
     writeExr(cache.mean.string(), acc.meanImage());

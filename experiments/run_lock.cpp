@@ -41,10 +41,12 @@ RunLock::RunLock(const std::string& runDir, const std::string& experimentFile, c
                                                  (std::filesystem::is_directory(path, ec) ? " (remove that directory)" : ""));
   }
   struct stat st {};
-  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+  // A second hard link would be written through as a symbolic link was.
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode) || st.st_nlink != 1) {
     ::close(fd_);
     fd_ = -1;
-    throw ConfigError(experimentFile, 0, "", "the lock file " + path + " is not a regular file (remove it)");
+    throw ConfigError(experimentFile, 0, "", "the lock file " + path +
+                                                 " is not a regular file of its own (a device, FIFO or hard link); remove it");
   }
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     int err = errno;

@@ -40,7 +40,10 @@ Image readReferenceExr(const std::string& path, const KeyLocation& at) {
 CheckedExperiment validateExperiment(const Experiment& e) {
   CheckedExperiment checked;
   for (const ExperimentScene& s : e.scenes) {
-    SceneFile sf = loadScene(s.path, s.overrides);
+    // Warnings wait until every scene, crop and reference is accepted.
+    SceneLoadOptions deferred;
+    deferred.deferWarnings = true;
+    SceneFile sf = loadScene(s.path, s.overrides, deferred);
     int w = sf.scene->camera.width(), h = sf.scene->camera.height();
     Image given, variance;
     if (!s.reference.file.empty()) {
@@ -59,7 +62,7 @@ CheckedExperiment validateExperiment(const Experiment& e) {
     } else if (!s.reference.scene.empty()) {
       // Loaded only to learn its resolution: a mismatch would otherwise show
       // only after the reference had rendered.
-      SceneFile rf = loadScene(s.reference.scene, s.resolution);
+      SceneFile rf = loadScene(s.reference.scene, s.resolution, deferred);  // its warnings come when it renders
       int rw = rf.scene->camera.width(), rh = rf.scene->camera.height();
       if (rw != w || rh != h)
         throw s.referenceAt.error("the reference scene renders " + size(rw, rh) + ", the scene renders " + size(w, h) +
@@ -73,6 +76,7 @@ CheckedExperiment validateExperiment(const Experiment& e) {
     checked.givenReferences.push_back(std::move(given));
     checked.givenVariances.push_back(std::move(variance));
   }
+  for (SceneFile& sf : checked.scenes) printSceneWarnings(sf);
   return checked;
 }
 

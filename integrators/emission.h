@@ -16,7 +16,7 @@ struct EmittedRay {
   Color beta;            // throughput after the emission
 };
 
-// Uses four sampler dimensions (1-D, 1-D, 2-D, 2-D). Empty if there is no
+// Uses six sampler dimensions in four draws (1-D, 1-D, 2-D, 2-D). Empty if there is no
 // light or the sample carries nothing.
 inline std::optional<EmittedRay> sampleEmission(const Scene& scene, Sampler& sampler) {
   const LightSampler& lights = scene.lightSampler();

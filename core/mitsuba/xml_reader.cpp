@@ -177,7 +177,8 @@ long Props::getInt(const std::string& name, long fallback) {
   pugi::xml_node n = take(name, {"integer"});
   if (!n) return fallback;
   std::vector<double> v = xml_.numbers(n, "value");
-  if (v.size() != 1 || v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e9) xml_.fail(n, name, "expected one integer");
+  if (v.size() != 1 || v[0] != std::floor(v[0])) xml_.fail(n, name, "expected one integer");
+  if (std::abs(v[0]) > 1e9) xml_.fail(n, name, "must be a whole number within ±1e9");
   return long(v[0]);
 }
 

@@ -160,6 +160,7 @@ Prepared prepare(const RenderArgs& args) {
   checkNotAnExperiment(args.scene);
   SceneLoadOptions loadOptions;
   loadOptions.strict = args.strict;
+  loadOptions.deferWarnings = true;  // printed once the flags, integrator and outputs are accepted too (runRender)
   SceneFile sf = loadScene(args.scene, sceneOverrides, loadOptions);
   if (!args.sampler.empty()) sf.sampler.type = args.sampler;
   if (!args.crop.empty()) {
@@ -363,6 +364,7 @@ int render(const RenderArgs& args) {
       checkFileNameFits("--output", path);
       if (std::filesystem::is_directory(path, ec)) throw flagError("--output", "cannot write " + path + ": it is a directory");
     }
+  printSceneWarnings(job.sf);
   auto threads = limitThreads(args.threads);
 
   if (replay) {
@@ -432,6 +434,7 @@ const std::vector<std::string>& aovNames() {
 
 RenderedImage renderToMemory(const RenderArgs& args) {
   Prepared job = prepare(args);
+  printSceneWarnings(job.sf);
   auto threads = limitThreads(args.threads);
   return renderPrepared(job, args);
 }

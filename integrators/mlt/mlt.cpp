@@ -61,7 +61,7 @@ MltSettings MltSettings::read(Params& p) {
     p.fail("max_depth", "mode: mmlt picks a path length in [1, max_depth]: give a finite max_depth of at least 1");
   // mmlt keeps a chain and a bootstrap per length: max_depth 2^31 allocated
   // 16 GB and bootstrapped for ever (issue 34, class 5). 4096 is the longest
-  // subpath the bidirectional buffers hold (bidirectional/all_strategies.cpp).
+  // subpath the bidirectional buffers hold (SubpathBuffers::fit, bidirectional/all_strategies.h).
   if (mmlt && s.length.maxDepth > 4096)
     p.fail("max_depth", "mode: mmlt keeps a chain per path length: max_depth must be at most 4096, got " +
                             std::to_string(s.length.maxDepth));

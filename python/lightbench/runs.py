@@ -47,8 +47,9 @@ def _read_log(path):
         rows = list(csv.reader(io.StringIO(text)))
     except csv.Error:  # a NUL byte
         rows = []
-    if not rows or "final" not in rows[0] or "label" not in rows[0]:
-        raise ConfigError(f"{path}:1: not a lightbench log (no 'label' and 'final' columns)")
+    # The columns --resume requires (experiments/run_log.cpp), `final` last.
+    if not rows or not {"scene", "label", "repeat", "final"} <= set(rows[0]) or rows[0][-1] != "final":
+        raise ConfigError(f"{path}:1: not a lightbench log (no scene, label, repeat and final columns, final last)")
     for number, row in enumerate(rows[1:], start=2):
         if len(row) != len(rows[0]):
             raise ConfigError(f"{path}:{number}: a row of {len(row)} fields under a header of {len(rows[0])} "

@@ -366,7 +366,11 @@ TEST_F(BadInput, LightsWhoseTotalPowerOverflowsAreRefused) {
   std::string three = "lights:\n";
   for (int i = 0; i < 3; ++i) three += "  - {type: point, position: [" + std::to_string(i) + ", 3, 0], intensity: 1e37}\n";
   expectError(render(write("p.yaml", scene("", three))), "p.yaml:", "lights[", "the lights' total power");
-  // Two of 5e36 (power 6.3e37 each, 2.5e38 in all with the count) still fit.
+  // Two of 5e36 (power 6.3e37 each, 1.3e38 in all) still fit; under uniform
+  // selection a light path starts with the count times the brightest's.
+  std::string uniform = "light_selection: uniform\nlights:\n";
+  for (int i = 0; i < 3; ++i) uniform += "  - {type: point, position: [" + std::to_string(i) + ", 3, 0], intensity: 1e37}\n";
+  expectError(render(write("u.yaml", scene("", uniform))), "u.yaml:", "lights[", "times the number of lights (uniform selection)");
   std::string two = "lights:\n";
   for (int i = 0; i < 2; ++i) two += "  - {type: point, position: [" + std::to_string(i) + ", 3, 0], intensity: 5e36}\n";
   RunResult ok = render(write("q.yaml", scene("", two)), "--integrator light");
@@ -440,6 +444,10 @@ TEST_F(BadInput, WarningsWaitForTheSceneToBeAccepted) {
   RunResult bad = render(write("s.yaml", scene("  - {type: mesh, file: tri.obj}", "") + "lights: [{type: nope}]\n"));
   EXPECT_EQ(bad.exitCode, 2) << bad.err;
   EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  // Nor before a flag refused once the scene is loaded (the review found it).
+  RunResult crop = render(write("c.yaml", scene("  - {type: mesh, file: tri.obj}")), "--crop 0,0,9,9");
+  EXPECT_EQ(crop.exitCode, 2) << crop.err;
+  EXPECT_EQ(std::count(crop.err.begin(), crop.err.end(), '\n'), 1) << crop.err;
   RunResult good = render(write("t.yaml", scene("  - {type: mesh, file: tri.obj}")));
   EXPECT_EQ(good.exitCode, 0) << good.err;
   EXPECT_NE(good.err.find("skipped 1 degenerate"), std::string::npos) << good.err;
