@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace lb {
@@ -36,8 +37,21 @@ inline bool isFinite(const Color& c) {
   return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
 }
 inline float absDot(const Vec3& a, const Vec3& b) { return std::abs(glm::dot(a, b)); }
-inline float nextFloatUp(float v) { return std::nextafter(v, Infinity); }
-inline float nextFloatDown(float v) { return std::nextafter(v, -Infinity); }
+// The neighbouring float above (below) v, as std::nextafter(v, ±∞) but inline
+// (pbrt-v4 §6.8.2): every spawned ray calls it up to three times per end, and
+// libm's nextafterf was a call per axis in the path tracer's profile (issue 33).
+// On the bits alone, so flush-to-zero (which the renderers enable) cannot
+// change it: −0 steps to the smallest denormal, +∞ and NaN stay.
+inline float nextFloatUp(float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  if ((bits & 0x7fffffffu) >= 0x7f800000u && bits != 0xff800000u) return v;  // NaN, +∞
+  if (bits == 0x80000000u) bits = 0;                                           // −0 → +0
+  bits = (bits & 0x80000000u) ? bits - 1 : bits + 1;  // negative: towards zero
+  std::memcpy(&v, &bits, sizeof bits);
+  return v;
+}
+inline float nextFloatDown(float v) { return -nextFloatUp(-v); }
 
 // Axis-aligned bounds, used for the scene's bounding sphere (infinite lights).
 struct Bounds3 {

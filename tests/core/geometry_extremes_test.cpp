@@ -1,10 +1,15 @@
 // Geometry at the extremes (issue 7): rays aimed exactly at the shared edges
 // and vertices of a closed mesh never leak through it, rays starting exactly
 // on an edge or a vertex do not hit their own surface, and zero-area triangles
-// are dropped with a warning; a face on a coordinate plane is lit.
+// are dropped with a warning; a face on a coordinate plane is lit; the ray
+// offsets' float stepping is std::nextafter.
 #include <gtest/gtest.h>
 #include <filesystem>
 #include <fstream>
+#include <cstring>
+#include <xmmintrin.h>
+#include "core/rng.h"
+#include "core/scene.h"
 #include "core/scene_loader.h"
 #include "tests/support/render_helpers.h"
 
@@ -118,6 +123,53 @@ TEST(GeometryExtremes, AFaceOnACoordinatePlaneIsLit) {
   SceneFile sf = loadSceneFromString(scene, "slab.yaml");
   auto film = test::renderScene(sf, {"path", "{max_depth: 2}", 64, 7});
   EXPECT_TRUE(test::meanMatches(*film, test::pointLightOverPlane(sf.scene->camera, Vec3(0.3f, 2, 0.2f), 10, 0.5f), 0.01));
+}
+
+}  // namespace
+}  // namespace lb
+
+namespace lb {
+namespace {
+
+// Ray offsets step p to its neighbouring float (core/ray.h). The inline
+// nextFloatUp/Down (core/math.h) must be std::nextafter towards ±∞ on every
+// class of float: zeros of both signs, denormals, the largest finite values,
+// infinities, NaN, and random bit patterns of both signs; with denormals
+// flushed to zero too, as the renderers run (a first version compared floats
+// and differed there on denormals).
+
+TEST(GeometryExtremes, NextFloatIsStdNextafter) {
+  auto same = [](float a, float b) {
+    uint32_t x, y;
+    std::memcpy(&x, &a, 4), std::memcpy(&y, &b, 4);
+    return (std::isnan(a) && std::isnan(b)) || x == y;
+  };
+  std::vector<float> values = {0.f, -0.f, std::numeric_limits<float>::denorm_min(),
+                               -std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
+                               -std::numeric_limits<float>::min(), std::numeric_limits<float>::max(),
+                               -std::numeric_limits<float>::max(), Infinity, -Infinity,
+                               std::numeric_limits<float>::quiet_NaN(), 1.f, -1.f};
+  Pcg32 rng(3, 5);
+  for (int i = 0; i < 100000; ++i) {
+    uint32_t bits = rng.nextU32();
+    float v;
+    std::memcpy(&v, &bits, 4);
+    values.push_back(v);
+  }
+  auto wrong = [&] {
+    int n = 0;
+    for (float v : values) {
+      n += !same(nextFloatUp(v), std::nextafter(v, Infinity));
+      n += !same(nextFloatDown(v), std::nextafter(v, -Infinity));
+    }
+    return n;
+  };
+  unsigned csr = _mm_getcsr();
+  _mm_setcsr(csr & ~0x8040u);  // denormals as they are
+  EXPECT_EQ(wrong(), 0);
+  enableFlushToZero();
+  EXPECT_EQ(wrong(), 0) << "with flush-to-zero";
+  _mm_setcsr(csr);
 }
 
 }  // namespace
