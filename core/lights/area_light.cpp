@@ -6,19 +6,22 @@ namespace lb {
 std::optional<LightSample> AreaLight::sampleLi(const Vec3& ref, float uPick, Vec2 u) const {
   ShapeSample ss;
   float pdf;
+  Vec3 d;
+  float dist;
   if (shape_->isSphere()) {
     ss = shape_->sampleSolidAngle(ref, u, &pdf);
+    d = ss.p - ref;
+    dist = glm::length(d);
   } else {
     ss = shape_->sampleArea(uPick, u);
-    Vec3 d = ss.p - ref;
+    d = ss.p - ref;
     float dist2 = glm::dot(d, d);
     if (dist2 == 0) return std::nullopt;
-    float cos = absDot(ss.n, d) / std::sqrt(dist2);
+    dist = std::sqrt(dist2);
+    float cos = absDot(ss.n, d) / dist;
     if (cos == 0) return std::nullopt;
     pdf = ss.pdfArea * dist2 / cos;  // area → solid angle
   }
-  Vec3 d = ss.p - ref;
-  float dist = glm::length(d);
   if (dist == 0 || pdf == 0 || !std::isfinite(pdf)) return std::nullopt;
   Vec3 wi = d / dist;
   Color Le = L(ss.n, -wi);

@@ -14,19 +14,6 @@ bool visible(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& ray
   return !scene.occluded({from, to - from, 1 - ShadowEpsilon});
 }
 
-// Geometry term with shading-normal cosines and visibility.
-float geometry(const Scene& scene, const Vertex& a, const Vertex& b, uint64_t& rays) {
-  Vec3 d = b.p - a.p;
-  float d2 = glm::dot(d, d);
-  if (d2 == 0) return 0;
-  d /= std::sqrt(d2);
-  float g = 1 / d2;
-  if (a.onSurface()) g *= absDot(a.type == VertexType::Surface ? a.shadingNormal() : a.ng, d);
-  if (b.onSurface()) g *= absDot(b.type == VertexType::Surface ? b.shadingNormal() : b.ng, d);
-  if (g == 0 || !visible(scene, a, b, rays)) return 0;
-  return g;
-}
-
 }  // namespace
 
 float misWeight(const Scene& scene, MisWeighting h, Subpath light,
@@ -95,15 +82,24 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
     }
   } else {
     const Vertex &qs = light[size_t(s - 1)], &pt = camera[size_t(t - 1)];
-    if (qs.connectible() && pt.connectible() && qs.type == VertexType::Surface && pt.type == VertexType::Surface) {
-      Vec3 w = glm::normalize(qs.p - pt.p);  // pt → qs
+    Vec3 d = qs.p - pt.p;  // pt → qs
+    float d2 = glm::dot(d, d);
+    if (qs.connectible() && pt.connectible() && qs.type == VertexType::Surface && pt.type == VertexType::Surface &&
+        d2 > 0) {
+      // One distance for the BSDFs' direction, the geometry term and the two
+      // densities across the connecting edge (convertDensity's |cos|/d², written
+      // out: issue 33, a square root and two divisions each).
+      Vec3 w = d / std::sqrt(d2);
       BSDFEval ep = BSDF(pt.si).eval(pt.si.wo, w, TransportMode::Radiance);
       BSDFEval eq = BSDF(qs.si).eval(qs.si.wo, -w, TransportMode::Importance);
       c.L = qs.beta * eq.f * ep.f * pt.beta;
-      if (!isBlack(c.L)) c.L *= geometry(scene, qs, pt, rays);
-      rev.pt = convertDensity(qs, eq.pdf, pt);
+      if (!isBlack(c.L)) {
+        float g = 1 / d2 * absDot(qs.shadingNormal(), w) * absDot(pt.shadingNormal(), w);
+        c.L *= g == 0 || !visible(scene, qs, pt, rays) ? 0.f : g;
+      }
+      rev.pt = eq.pdf * absDot(pt.ng, w) / d2;
       rev.ptMinus = convertDensity(pt, ep.pdfRev, camera[size_t(t - 2)]);
-      rev.qs = convertDensity(pt, ep.pdf, qs);
+      rev.qs = ep.pdf * absDot(qs.ng, w) / d2;
       rev.qsMinus = convertDensity(qs, eq.pdfRev, light[size_t(s - 2)]);
     }
   }
