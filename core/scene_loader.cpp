@@ -633,13 +633,14 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
 
 SceneFile loadScene(const std::string& path) { return loadScene(path, YAML::Node()); }
 
-YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params) {
+YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params,
+                                    const std::function<bool(const std::string& key)>& reads) {
   YAML::Node out(YAML::NodeType::Map);
   if (params && params.IsMap())
     for (auto it = params.begin(); it != params.end(); ++it) out[it->first] = it->second;
   if (scene.integrator && scene.integrator.IsMap())
     for (const std::string& key : scene.sharedIntegratorKeys)
-      if (!out[key] && scene.integrator[key]) out[key] = scene.integrator[key];
+      if (!out[key] && scene.integrator[key] && (!reads || reads(key))) out[key] = scene.integrator[key];
   return out;
 }
 

@@ -3,6 +3,7 @@
 // (a path ending in .xml, translated by core/mitsuba/import.h into the same
 // description). Every key is checked: unknown keys, wrong types, non-finite
 // numbers and non-physical values are ConfigErrors naming file, line and key.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -40,9 +41,13 @@ void printSceneWarnings(SceneFile& scene);
 
 // An integrator's parameters for rendering `scene`: `params`, plus the scene's
 // shared integrator keys (an imported scene's max_depth) that `params` does
-// not set itself. Entries are shared with `params`, not cloned (errors keep
-// their lines).
-YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params);
+// not set itself and the integrator reads (`reads`; without it, every key):
+// the depth defines the integral the scene asks for, so it holds for every
+// integrator that has a depth, and an integrator without one (direct) still
+// renders the scene. Entries are shared with `params`, not cloned (errors
+// keep their lines).
+YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& params,
+                                    const std::function<bool(const std::string& key)>& reads = {});
 
 // A `sampler:` mapping (type, strata, spp), in a scene or an experiment's configuration.
 class Params;

@@ -151,7 +151,8 @@ RenderedChunk renderReferenceChunk(const ExperimentScene& s, const SceneFile& sf
   // consistent one (allowed with allow_biased_reference) each chunk is its
   // own chunk_spp-pass render, so its bias is that of chunk_spp passes,
   // however many chunks are averaged.
-  Params params(withSharedIntegratorKeys(sf, s.reference.params), s.path, "reference.params");
+  Params params(withSharedIntegratorKeys(sf, s.reference.params, keysReadBy(s.reference.integrator)), s.path,
+                "reference.params");
   auto integrator = makeIntegrator(s.reference.integrator, params);
   return renderChunk(*sf.scene, *integrator, sf.sampler, s.reference.seed, k, s.reference.chunkSpp);
 }

@@ -40,7 +40,7 @@ RunEnvironment makeRunEnvironment(const Experiment& e, const std::vector<SceneFi
   // Merging YAML nodes writes to both sides: built here, so runs only read them.
   for (size_t si = 0; si < e.scenes.size(); ++si)
     for (const Configuration& c : e.configurations)
-      env.params[si].push_back(withSharedIntegratorKeys(scenes[si], c.params));
+      env.params[si].push_back(withSharedIntegratorKeys(scenes[si], c.params, keysReadBy(c.integrator)));
   env.snapshots = snapshotPoints(e);
   env.machine = machine;
   return env;
@@ -60,7 +60,7 @@ RunOutcome performRun(const RunEnvironment& env, const RunTask& t, const Image& 
   const Scene& scene = *sf.scene;
   const std::vector<double>& points = env.snapshots;
   const bool timeBudget = e.budget.seconds > 0;
-  // An imported scene's max_depth holds for every configuration (the integral it defines).
+  // An imported scene's max_depth holds for every configuration that has a depth (the integral it defines).
   Params params(env.params[t.scene][t.config], e.file, c.context);
   auto integrator = makeIntegrator(c.integrator, params);
   if (!c.denoise.empty() && !integrator->independentPasses())

@@ -56,6 +56,20 @@ std::vector<KeyDoc> integratorKeys(const std::string& name) {
   return {};
 }
 
+bool integratorReadsKey(const std::string& name, const std::string& key) {
+  for (const auto& e : integratorRegistry())
+    if (e.name == name) {
+      for (const KeyDoc& k : integratorKeys(name))
+        if (k.key == key) return true;
+      return false;
+    }
+  return true;
+}
+
+std::function<bool(const std::string& key)> keysReadBy(const std::string& name) {
+  return [name](const std::string& key) { return integratorReadsKey(name, key); };
+}
+
 std::string formatIntegratorKeys(const std::string& name, bool markdown) {
   const IntegratorEntry* entry = nullptr;
   for (const auto& e : integratorRegistry())

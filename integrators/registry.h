@@ -27,6 +27,11 @@ const std::vector<IntegratorEntry>& integratorRegistry();
 // settings reader run on an empty mapping (Params::describing), so the list
 // cannot drift from what is read. Throws for an unknown name.
 std::vector<KeyDoc> integratorKeys(const std::string& name);
+// Whether the integrator reads `key` (one of integratorKeys(name)); true for
+// an unknown name, so that makeIntegrator is the one to refuse it. An imported
+// scene's max_depth goes to the integrators that read it (withSharedIntegratorKeys).
+bool integratorReadsKey(const std::string& name, const std::string& key);
+std::function<bool(const std::string& key)> keysReadBy(const std::string& name);
 // The table `lightbench integrators NAME` prints; markdown for docs/integrators.md.
 std::string formatIntegratorKeys(const std::string& name, bool markdown);
 // `params` holds the integrator's keys (without `name`). Unknown names list the

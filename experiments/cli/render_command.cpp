@@ -61,8 +61,9 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
   if (sf.integrator && c.name == sceneName)
     for (auto it = sf.integrator.begin(); it != sf.integrator.end(); ++it)
       if (it->first.as<std::string>() != "name") c.params[it->first.as<std::string>()] = it->second;
-  // Keys that define the integral (an imported scene's max_depth) hold for any integrator.
-  c.params = withSharedIntegratorKeys(sf, c.params);
+  // Keys that define the integral (an imported scene's max_depth) hold for
+  // every integrator that reads them.
+  c.params = withSharedIntegratorKeys(sf, c.params, keysReadBy(c.name));
   for (const std::string& kv : args.overrides) {
     auto eq = kv.find('=');
     if (eq == std::string::npos || eq == 0)

@@ -1,6 +1,7 @@
 // `lightbench render scene.xml` as a user runs it: an imported scene renders
 // and says what it approximated; a bad one is one line naming file and line,
 // exit 2, nothing written; --strict refuses any approximation.
+#include <yaml-cpp/yaml.h>
 #include "tests/support/bad_input_fixture.h"
 
 namespace lb::testing {
@@ -59,6 +60,22 @@ const std::string kLitSphere =
 TEST_F(BadInput, MitsubaValidSceneOfTheseTestsRenders) {
   RunResult r = render(write("ok.xml", xmlScene(kLitSphere)));
   EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
+// Issue 39: the file's max_depth is given to the integrators that read one;
+// `direct` has none and refused every Mitsuba scene that set it ("unknown key
+// 'max_depth'"). With a depth, the scene's still holds.
+TEST_F(BadInput, MitsubaSceneDepthDoesNotLockOutAnIntegratorWithoutOne) {
+  std::string f = write("ok.xml", xmlScene(kLitSphere));
+  RunResult r = render(f, "--integrator direct", "--spp 1");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  // The render's own record of its integrator (the scene's description keeps the file's depth).
+  auto integrator = [&] { return YAML::LoadFile((dir_ / "out" / "image.config.yaml").string())["integrator"]; };
+  EXPECT_FALSE(integrator()["max_depth"]) << YAML::Dump(integrator());
+  fs::remove_all(dir_ / "out");
+  r = render(f, "--integrator bdpt", "--spp 1");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(integrator()["max_depth"].as<int>(), 4) << YAML::Dump(integrator());
 }
 
 TEST_F(BadInput, MitsubaContentAfterTheSceneIsRefused) {
