@@ -1,4 +1,5 @@
 #include "integrators/registry.h"
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 #include "integrators/bdpt/bdpt.h"
@@ -68,6 +69,63 @@ bool integratorReadsKey(const std::string& name, const std::string& key) {
 
 std::function<bool(const std::string& key)> keysReadBy(const std::string& name) {
   return [name](const std::string& key) { return integratorReadsKey(name, key); };
+}
+
+const std::vector<std::string>& integratorProperties() {
+  static const std::vector<std::string> names = {"splits", "unbiased", "adaptive", "replay"};
+  return names;
+}
+
+namespace {
+
+bool hasProperty(const IntegratorEntry& e, const std::string& property, const YAML::Node& yaml) {
+  if (property == "unbiased") return e.unbiased(yaml);
+  Params p(YAML::Clone(yaml), "", "integrator");
+  auto integrator = e.create(p);
+  if (property == "splits") return integrator->splitRefusal().empty();
+  if (property == "adaptive") return integrator->adaptiveRefusal().empty();
+  return integrator->replaysSamples();
+}
+
+// The values of `allowed` ("a, b, c") of a choice key.
+std::vector<std::string> choices(const std::string& allowed) {
+  std::vector<std::string> out;
+  std::stringstream s(allowed);
+  std::string v;
+  while (std::getline(s, v, ',')) out.push_back(v.substr(v.find_first_not_of(' ')));
+  return out;
+}
+
+}  // namespace
+
+std::string integratorsWith(const std::string& property) {
+  const auto& known = integratorProperties();
+  if (std::find(known.begin(), known.end(), property) == known.end()) {
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw ConfigError("command line", 0, "--with", "unknown property '" + property + "' (one of: " + list + ")");
+  }
+  std::string out;
+  for (const auto& e : integratorRegistry()) {
+    bool byDefault = hasProperty(e, property, YAML::Node(YAML::NodeType::Map));
+    std::vector<std::string> exceptions;  // settings under which it differs from its default
+    for (const KeyDoc& k : integratorKeys(e.name)) {
+      if (k.type != "choice" || !k.condition.empty()) continue;
+      for (const std::string& value : choices(k.allowed)) {
+        if (value == k.fallback) continue;
+        YAML::Node yaml(YAML::NodeType::Map);
+        yaml[k.key] = value;
+        if (hasProperty(e, property, yaml) != byDefault) exceptions.push_back("`" + k.key + ": " + value + "`");
+      }
+    }
+    std::string joined;
+    for (size_t i = 0; i < exceptions.size(); ++i) joined += (i == 0 ? "" : " or ") + exceptions[i];
+    std::string item;
+    if (byDefault) item = "`" + e.name + "`" + (exceptions.empty() ? "" : " (not with " + joined + ")");
+    else if (!exceptions.empty()) item = "`" + e.name + "` with " + joined;
+    if (!item.empty()) out += (out.empty() ? "" : ", ") + item;
+  }
+  return out;
 }
 
 std::string formatIntegratorKeys(const std::string& name, bool markdown) {

@@ -129,6 +129,11 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   CLI::App* integrators = app.add_subcommand("integrators", "List the integrators, or one integrator's keys with type, default, range and meaning.");
   integrators->add_option("name", integratorName, "An integrator's name: list its keys");
   integrators->add_flag("--markdown", markdown, "The key table as markdown (docs/integrators.md is this for every integrator)");
+  std::string withProperty;
+  integrators->add_option("--with", withProperty,
+                          "The integrators with a property, as the docs list them: splits (--distributed), unbiased "
+                          "(references), adaptive (--adaptive), replay (--pixel)")
+      ->check(CLI::IsMember(integratorProperties()));
 
   std::string shell;
   CLI::App* completion = app.add_subcommand("completion", "Print a shell completion script: source <(lightbench completion bash)");
@@ -189,7 +194,8 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   if (worker) return serve();
   if (app.got_subcommand("integrators")) {
     return withErrorExitCodes([&] {
-      if (!integratorName.empty()) std::cout << formatIntegratorKeys(integratorName, markdown);
+      if (!withProperty.empty()) std::cout << integratorsWith(withProperty) << "\n";
+      else if (!integratorName.empty()) std::cout << formatIntegratorKeys(integratorName, markdown);
       else if (markdown)
         for (const auto& e : integratorRegistry()) std::cout << formatIntegratorKeys(e.name, true) << "\n";
       else
