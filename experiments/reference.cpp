@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -36,6 +37,12 @@ std::string readBytes(const std::string& path) {
 }  // namespace
 
 std::string renderSourceHash() { return LIGHTBENCH_RENDER_SOURCE_HASH; }
+
+std::string integratorSourceHash(const std::string& name) {
+  static const std::map<std::string, std::string> table = LIGHTBENCH_INTEGRATOR_SOURCE_HASHES;
+  auto it = table.find(name);
+  return it == table.end() ? renderSourceHash() : it->second;
+}
 std::string fileBytes(const std::string& path) { return readBytes(path); }
 
 std::string hashStrings(const std::vector<std::string>& parts) {
@@ -59,11 +66,12 @@ std::string referenceName(const ExperimentScene& s) {
 
 std::string referenceKey(const ExperimentScene& s) {
   Fnv1a f;
-  // The rendering code's hash (core/ and integrators/, cmake/
+  // The hash of the code the reference's integrator compiles from (cmake/
   // render_source_hash.cmake): a fixed integrator must not keep serving
-  // references computed before the fix, but a commit that changes only the
-  // experiments or the docs keeps a long reference usable.
-  f.add("lightbench-reference-v2 " LIGHTBENCH_RENDER_SOURCE_HASH);
+  // references computed before the fix, but a commit that changes only
+  // another integrator, the experiments or the docs keeps a long reference
+  // usable (v3: keyed per integrator since issue 39).
+  f.add("lightbench-reference-v3 " + integratorSourceHash(s.reference.integrator));
   const std::string& scene = referenceScene(s);
   f.add(readBytes(scene));
   YAML::Node root = loadSceneDescription(scene);

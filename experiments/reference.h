@@ -22,8 +22,14 @@ std::string referenceKey(const ExperimentScene& scene);
 // "2048 spp", "600 s" or "noise floor 0.002".
 std::string referenceBudget(const ReferenceSpec& reference);
 // The hash of the rendering code (core/, integrators/) this build was made
-// from: part of every reference key, and of what MPI ranks check they share.
+// from: part of what MPI ranks check they share and of a run's identity.
 std::string renderSourceHash();
+// The hash of the code integrator `name` compiles from (core/, the top of
+// integrators/, its folder and the shared modules it includes; cmake/
+// render_source_hash.cmake): part of every reference key, so a reference is
+// rendered again when its integrator's code changes, and only then (issue
+// 39). renderSourceHash() for a name with no folder.
+std::string integratorSourceHash(const std::string& name);
 // A file's bytes ("" if it cannot be read).
 std::string fileBytes(const std::string& path);
 // FNV-1a of several strings (each delimited), as 16 hex digits.
