@@ -27,9 +27,8 @@ FirstHitImages renderFirstHitImages(const Scene& scene, int samples, uint64_t se
           depth += si.t;
           normal += si.shading.n;
           if (!si.material) continue;  // an emitter-only surface reflects nothing
-          BSDF bsdf(si);
-          if (auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance))
-            albedo += bs->weight;
+          float uLobe = sampler.get1D();
+          albedo += BSDF(si).albedoSample(si.wo, uLobe, sampler.get2D());
         }
         out.albedo.at(x, y) = albedo / float(samples);
         out.normal.at(x, y) = normal / float(samples);

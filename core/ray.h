@@ -7,6 +7,15 @@
 
 namespace lb {
 
+// Two conventions, one per kind of ray (issue 39):
+//  * a ray that looks for the next surface (camera rays, SurfaceInteraction::
+//    spawnRay, every scattered direction): d is a unit vector and tMax is ∞
+//    (or a distance in world units), so a hit's t is its distance;
+//  * a shadow ray between two points (spawnRayTo, a connection): d is the
+//    whole segment, not normalised, and tMax is 1 − ShadowEpsilon, so t is a
+//    fraction of the segment and the far end's own surface is not hit.
+// Embree takes either as it is; only code that reads t as a distance must
+// hold a ray of the first kind.
 struct Ray {
   Vec3 o;
   Vec3 d;

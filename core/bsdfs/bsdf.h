@@ -10,6 +10,7 @@
 //  * the material's texture at the hit's uv, a factor on f (material.h).
 #include "core/bsdfs/material.h"
 #include "core/interaction.h"
+#include "core/sampling.h"
 
 namespace lb {
 
@@ -53,6 +54,34 @@ class BSDF {
     if (leaks(wiWorld, s->wi)) return std::nullopt;
     Color f = s->f * texture_ * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
     return ScatterSample{wiWorld, f, f * absCosTheta(s->wi) / s->pdf, s->pdf, s->pdfRev, s->lobe, s->eta};
+  }
+
+  // The albedo of this hit, defined once for AOVs, denoising and any
+  // integrator that wants one (issue 39): a one-sample estimate of the
+  // directional albedo ρ(wo) = ∫ f(wo, wi) |cos θi| dωi, the weight
+  // f·|cos θ|/pdf of one BSDF sample (black if the sample fails). Its mean is
+  // ρ(wo), which includes transmission and a delta lobe's Fresnel weight.
+  Color albedoSample(const Vec3& woWorld, float uLobe, Vec2 u) const {
+    auto s = sample(woWorld, uLobe, u, TransportMode::Radiance);
+    return s ? s->weight : Color(0.f);
+  }
+
+  // "The hemisphere" of a surface for an integrator that samples one
+  // (ambient occlusion, gathering), defined once (issue 39): a cosine-weighted
+  // direction on wo's side of the shading normal, with its density
+  // |cos θ|/π per solid angle. nullopt where that direction would leak: on
+  // the other side of the geometric normal (see leaks above; with
+  // interpolated normals near a silhouette).
+  struct HemisphereSample {
+    Vec3 wi;
+    float pdf;
+  };
+  std::optional<HemisphereSample> sampleCosineOnWoSide(const Vec3& woWorld, Vec2 u) const {
+    Vec3 local = sampleCosineHemisphere(u);
+    if (glm::dot(woWorld, frame_.n) < 0) local.z = -local.z;
+    Vec3 wi = frame_.toWorld(local);
+    if (local.z == 0 || leaks(wi, local)) return std::nullopt;
+    return HemisphereSample{wi, std::abs(local.z) * InvPi};
   }
 
   float pdf(const Vec3& woWorld, const Vec3& wiWorld) const {
