@@ -115,11 +115,51 @@ Color GuidedPathTracer::Li(const Ray& ray, const Scene& scene, Sampler& sampler,
   return trace(ray, scene, sampler, localGuide(), nullptr, rays);
 }
 
-// The path estimator's single-ray loop (path_estimator.cpp) with the guide in
-// its context, recording each scattering vertex for learning: the radiance
-// the rest of the path brings back to it (each later contribution divided by
-// the vertex's throughput), and what its direction reached (the emission
-// there and the learned value of scattering on, for Q-learning).
+namespace {
+
+// Records each scattering vertex of a path for learning (PathObserver,
+// path_estimator.h): the radiance the rest of the path brings back to it
+// (each later contribution divided by the vertex's throughput), and what its
+// direction reached (the emission there and the learned value of scattering
+// on, for Q-learning).
+class VertexRecorder final : public PathObserver {
+ public:
+  VertexRecorder(std::vector<guiding::GuideVertex>& records, const guiding::GuidingMethod& method)
+      : records_(records), method_(method), first_(records.size()) {}
+
+  void shaded(const SurfaceInteraction& si, const BSDF* bsdf, const Color& emitted, const Color& added) override {
+    // `emitted`, divided by the previous vertex's throughput, is the emission
+    // its direction found, less what NEE already found (so Q-learning does
+    // not learn to aim at lights NEE reaches).
+    if (lastRecorded_) {
+      GuideVertex& prev = records_.back();
+      prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
+      if (bsdf) prev.scattered = method_.scatteredValue(si, *bsdf);
+    }
+    if (!isBlack(added))
+      for (size_t r = first_; r < records_.size(); ++r) {
+        const Color& b = records_[r].beta;
+        for (int ch = 0; ch < 3; ++ch)
+          if (b[ch] > 0) records_[r].incident[ch] += added[ch] / b[ch];
+      }
+  }
+
+  void scattered(const SurfaceInteraction& si, const PathState& s) override {
+    lastRecorded_ = !s.prevDelta;
+    if (lastRecorded_) records_.push_back({si.p, guiding::orientationClass(si), s.ray.d, s.prevPdf, s.beta});
+  }
+
+ private:
+  std::vector<guiding::GuideVertex>& records_;
+  const guiding::GuidingMethod& method_;
+  const size_t first_;
+  bool lastRecorded_ = false;  // whether the previous vertex has a record to close
+};
+
+}  // namespace
+
+// The path estimator's single-ray loop with the guide in its context, and,
+// while learning, a recorder of its vertices.
 Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampler, DirectionGuide& guide,
                               std::vector<GuideVertex>* records, uint64_t& rays) const {
   int maxDepth = settings_.path.length.maxSegments();
@@ -128,48 +168,9 @@ Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampl
   s.ray = ray;
   s.prevPoint = ray.o;
   PathContext c{scene, sampler, maxDepth, true, sampler.dimension(), &guide};
-  Color L(0.f);
-  ShadowRequest shadows[PathEstimator::MaxShadowRays];
-  const size_t first = records ? records->size() : 0;
-  bool lastRecorded = false;  // whether the previous vertex has a record to close
-  for (;; ++s.vertex) {
-    SurfaceInteraction si;
-    ++rays;
-    bool hit = scene.intersect(s.ray, si);
-    Color before = L;
-    std::optional<BSDF> bsdf;
-    int n = estimator_.shadeVertex(s, hit, si, c, L, shadows, bsdf);
-    // What shadeVertex added is the emission this segment reached, weighted
-    // by MIS against the previous vertex's light samples: divided by that
-    // vertex's throughput, the emission its direction found, less what NEE
-    // already found (so Q-learning does not learn to aim at lights NEE reaches).
-    Color emitted = L - before;
-    for (int i = 0; i < n; ++i) {
-      ++rays;
-      if (!scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
-    }
-    if (records) {
-      if (lastRecorded) {
-        GuideVertex& prev = records->back();
-        prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
-        if (bsdf) prev.scattered = method_->scatteredValue(si, *bsdf);
-      }
-      Color added = L - before;
-      if (!isBlack(added))
-        for (size_t r = first; r < records->size(); ++r) {
-          const Color& b = (*records)[r].beta;
-          for (int ch = 0; ch < 3; ++ch)
-            if (b[ch] > 0) (*records)[r].incident[ch] += added[ch] / b[ch];
-        }
-    }
-    if (!bsdf) break;
-    Vec3 p = si.p;
-    int orientation = guiding::orientationClass(si);
-    if (!estimator_.scatter(s, si, *bsdf, sampler, estimator_.vertexBase(s, c), &guide)) break;
-    lastRecorded = records && !s.prevDelta;
-    if (lastRecorded) records->push_back({p, orientation, s.ray.d, s.prevPdf, s.beta});
-  }
-  return L;
+  if (!records) return estimator_.trace(s, c, rays, nullptr);
+  VertexRecorder recorder(*records, *method_);
+  return estimator_.trace(s, c, rays, &recorder);
 }
 
 std::vector<std::string> GuidedPathTracer::summaryLines() const {

@@ -102,12 +102,13 @@ Color PathEstimator::incidentRadiance(const Ray& ray, const Scene& scene, Sample
   state.ray = ray;
   state.prevPoint = ray.o;
   PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension()};
-  return trace(state, ctx, rays, firstHitDistance);
+  return trace(state, ctx, rays, firstHitDistance, nullptr);
 }
 
 // The single-ray engine: one path, depth first, each shadow ray traced as
 // soon as it is made.
-Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, float* firstHitDistance) const {
+Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, float* firstHitDistance,
+                           PathObserver* observer) const {
   const int M = settings_.firstBounceSamples;
   Color L(0.f);
   ShadowRequest shadows[MaxShadowRays];
@@ -117,11 +118,14 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     bool hit = c.scene.intersect(s.ray, si);
     if (s.vertex == 0 && hit && firstHitDistance) *firstHitDistance = si.t;
     std::optional<BSDF> bsdf;
+    Color before = L;
     int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
+    Color emitted = L - before;
     for (int i = 0; i < n; ++i) {
       ++rays;
       if (!c.scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
     }
+    if (observer) observer->shaded(si, bsdf ? &*bsdf : nullptr, emitted, L - before);
     if (!bsdf) break;
     // M branches at the first vertex, each carrying β/M and its own slots.
     if (s.vertex == 0 && M > 1) {
@@ -129,14 +133,16 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
         PathState next = s;
         next.beta /= float(M);
         next.branch = b;
-        if (scatter(next, si, *bsdf, c.sampler, vertexBase(next, c))) {
+        if (scatter(next, si, *bsdf, c.sampler, vertexBase(next, c), c.guide)) {
+          if (observer) observer->scattered(si, next);
           ++next.vertex;
-          L += trace(next, c, rays, nullptr);
+          L += trace(next, c, rays, nullptr, observer);
         }
       }
       break;
     }
-    if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c))) break;
+    if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c), c.guide)) break;
+    if (observer) observer->scattered(si, s);
   }
   return L;
 }

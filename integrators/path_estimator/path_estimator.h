@@ -131,6 +131,21 @@ struct ShadowRequest {
   Color contribution;
 };
 
+// Watches a path vertex by vertex, for a caller that learns from it (the
+// guided integrator records each scattering vertex and what came back to it)
+// without a copy of the loop (issue 39).
+class PathObserver {
+ public:
+  virtual ~PathObserver() = default;
+  // Vertex `si` was shaded (or the ray escaped: `si` unset, `bsdf` null):
+  // `emitted` is the emission its segment reached, MIS-weighted and times β;
+  // `added` all it added to the estimate, the unoccluded light samples too;
+  // `bsdf` is null where the path ends.
+  virtual void shaded(const SurfaceInteraction& si, const BSDF* bsdf, const Color& emitted, const Color& added) = 0;
+  // The path scattered at `si` into `s.ray` (`s.beta`, `s.prevPdf`, `s.prevDelta` updated).
+  virtual void scattered(const SurfaceInteraction& si, const PathState& s) = 0;
+};
+
 class PathEstimator {
  public:
   static constexpr int MaxShadowRays = 64;
@@ -178,9 +193,15 @@ class PathEstimator {
            (uint32_t(s.vertex) * uint32_t(settings_.firstBounceSamples) + uint32_t(s.branch)) * settings_.vertexStride();
   }
   const PathTracerSettings& settings() const { return settings_; }
+  // The single-ray loop from `state` under `ctx` (its guide, if any, draws
+  // the directions), reporting each vertex to `observer` if given.
+  Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, PathObserver* observer) const {
+    return trace(state, ctx, rays, nullptr, observer);
+  }
 
  private:
-  Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, float* firstHitDistance) const;
+  Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, float* firstHitDistance,
+              PathObserver* observer) const;
   float misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const;
   const Light* chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const;
   float lightPmf(const Scene& scene, const Vec3& p, const Light* light) const;
