@@ -1,9 +1,6 @@
 #include "integrators/mlt/integrands.h"
 #include "integrators/bidirectional/subpaths.h"
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <algorithm>
-#include <atomic>
 
 namespace lb::mlt {
 
@@ -86,21 +83,13 @@ std::vector<double> lengthContributions(const MultiplexedIntegrand& integrand, c
                                         uint64_t n, uint64_t& rays) {
   std::vector<float> f(n, 0.f);
   std::vector<int> length(n, 1);
-  std::atomic<uint64_t> traced{0};
-  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, n, 256), [&](const tbb::blocked_range<uint64_t>& r) {
-    std::vector<Contribution> c;
-    uint64_t local = 0;
-    for (uint64_t i = r.begin(); i != r.end(); ++i) {
-      PrimarySampleVector u = bootstrapVector(integrand.streams(), step, hashValues(seed, 0x9170), i);
-      c.clear();
-      integrand.evaluate(u, c, local);
-      // Reading the control numbers again returns the values just used.
-      length[i] = integrand.choose(u.get(MultiplexedIntegrand::Control, 0), u.get(MultiplexedIntegrand::Control, 1)).k;
-      f[i] = targetValue(c);
-    }
-    traced += local;
-  });
-  rays += traced.load();
+  forEachBootstrapSample(integrand, step, hashValues(seed, 0x9170), n, rays,
+                         [&](uint64_t i, PrimarySampleVector& u, const std::vector<Contribution>& c) {
+                           // Reading the control numbers again returns the values just used.
+                           length[i] = integrand.choose(u.get(MultiplexedIntegrand::Control, 0),
+                                                        u.get(MultiplexedIntegrand::Control, 1)).k;
+                           f[i] = targetValue(c);
+                         });
   size_t K = integrand.lengthProbabilities().size();
   std::vector<double> sum(K, 0.0);
   for (uint64_t i = 0; i < n; ++i) sum[size_t(length[i] - 1)] += double(f[i]);  // index order: deterministic

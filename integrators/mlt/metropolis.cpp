@@ -37,12 +37,10 @@ uint64_t Bootstrap::choose(float u) const {
   return uint64_t(std::min<ptrdiff_t>(it - cdf.begin(), ptrdiff_t(cdf.size()) - 1));
 }
 
-Bootstrap runBootstrap(const PrimarySpaceIntegrand& integrand, const MetropolisSettings& settings, uint64_t seed,
-                       uint64_t n, uint64_t& rays, const std::function<void(uint64_t)>& onProgress) {
-  Bootstrap result;
-  result.samples = n;
-  std::vector<double> f(n, 0.0);
-  std::vector<uint8_t> bad(n, 0);
+void forEachBootstrapSample(
+    const PrimarySpaceIntegrand& integrand, const SmallStep& step, uint64_t seed, uint64_t n, uint64_t& rays,
+    const std::function<void(uint64_t i, PrimarySampleVector& u, const std::vector<Contribution>& c)>& record,
+    const std::function<void(uint64_t)>& onProgress) {
   std::atomic<uint64_t> traced{0};
   constexpr uint64_t Block = 256;
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, (n + Block - 1) / Block), [&](const tbb::blocked_range<uint64_t>& r) {
@@ -51,17 +49,31 @@ Bootstrap runBootstrap(const PrimarySpaceIntegrand& integrand, const MetropolisS
     for (uint64_t block = r.begin(); block != r.end(); ++block) {
       uint64_t end = std::min(n, (block + 1) * Block);
       for (uint64_t i = block * Block; i < end; ++i) {
-        PrimarySampleVector u = bootstrapVector(integrand.streams(), settings.smallStep, seed, i);
+        PrimarySampleVector u = bootstrapVector(integrand.streams(), step, seed, i);
         c.clear();
         integrand.evaluate(u, c, localRays);
-        if (!allFinite(c)) bad[i] = 1;
-        else f[i] = targetValue(c);
+        record(i, u, c);
       }
       if (onProgress) onProgress(end - block * Block);
     }
     traced += localRays;
   });
   rays += traced.load();
+}
+
+Bootstrap runBootstrap(const PrimarySpaceIntegrand& integrand, const MetropolisSettings& settings, uint64_t seed,
+                       uint64_t n, uint64_t& rays, const std::function<void(uint64_t)>& onProgress) {
+  Bootstrap result;
+  result.samples = n;
+  std::vector<double> f(n, 0.0);
+  std::vector<uint8_t> bad(n, 0);
+  forEachBootstrapSample(
+      integrand, settings.smallStep, seed, n, rays,
+      [&](uint64_t i, PrimarySampleVector&, const std::vector<Contribution>& c) {
+        if (!allFinite(c)) bad[i] = 1;
+        else f[i] = targetValue(c);
+      },
+      onProgress);
   // Sums in index order: the same whatever the thread count.
   result.cdf.resize(n);
   double sum = 0, sumSq = 0;

@@ -60,6 +60,17 @@ struct MetropolisSettings {
 // The vector bootstrap sample `index` starts from, before any mutation.
 PrimarySampleVector bootstrapVector(int streams, const SmallStep& step, uint64_t seed, uint64_t index);
 
+// Evaluates bootstrap samples 0 … n−1 in parallel, sample i at
+// bootstrapVector(…, seed, i), and hands each to `record(i, u, c)` (from
+// any thread; i is distinct per call, so writing slot i of an array is
+// safe). Each result depends on i alone, never on the threads. `onProgress(k)`
+// after each block of k samples. Shared by the bootstrap of b and mmlt's
+// per-length estimates.
+void forEachBootstrapSample(
+    const PrimarySpaceIntegrand& integrand, const SmallStep& step, uint64_t seed, uint64_t n, uint64_t& rays,
+    const std::function<void(uint64_t i, PrimarySampleVector& u, const std::vector<Contribution>& c)>& record,
+    const std::function<void(uint64_t)>& onProgress = {});
+
 struct Bootstrap {
   double b = 0;                      // the estimate of ∫ f du
   double relativeStandardError = 0;  // s_f / (b √n); NaN if b = 0
