@@ -1,0 +1,250 @@
+// The `shapes:` of a YAML scene: transforms, built-in meshes, mesh files, spheres,
+// their materials and emission (scene_file_parts.h).
+#include "core/scene_file_parts.h"
+#include "core/memory.h"
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <limits>
+#include "core/bsdfs/material_factory.h"
+#include "core/mesh_io.h"
+
+namespace lb::scene_file {
+
+// transform: {matrix: 16 numbers, row by row} (as Mitsuba writes it), or
+// {scale, rotate_x, rotate_y, rotate_z, translate}, applied in that order.
+Mat4 readMatrix(Params& t) {
+  const YAML::Node n = t.node()["matrix"];
+  t.has("matrix");
+  if (!n.IsSequence() || n.size() != 16) t.fail("matrix", "expected 16 numbers, row by row");
+  for (const char* other : {"scale", "rotate_x", "rotate_y", "rotate_z", "translate"})
+    if (t.has(other)) t.fail(other, "cannot be combined with matrix");
+  t.checkUnused();
+  Mat4 m(1.f);
+  for (int i = 0; i < 16; ++i) {
+    float v = 0;
+    try {
+      v = n[i].as<float>();
+    } catch (const YAML::Exception&) {
+      t.fail("matrix", "expected 16 numbers, row by row");
+    }
+    if (!std::isfinite(v)) t.fail("matrix", "must be finite");
+    m[i % 4][i / 4] = v;  // glm is column-major
+  }
+  if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+    t.fail("matrix", "the last row must be 0 0 0 1 (an affine transform)");
+  return m;
+}
+
+Mat4 readTransform(Params& shape, const LoadContext& ctx) {
+  Mat4 m(1.f);
+  if (auto t = shape.getChild("transform"); t && t->has("matrix")) {
+    m = readMatrix(*t);
+  } else if (t) {
+    Vec3 scale(1.f);
+    if (t->has("scale")) {
+      const YAML::Node n = t->node()["scale"];
+      scale = n.IsScalar() ? Vec3(t->getFloat("scale", 1)) : t->getVec3("scale", Vec3(1.f));
+    }
+    float rx = t->getFloat("rotate_x", 0), ry = t->getFloat("rotate_y", 0), rz = t->getFloat("rotate_z", 0);
+    Vec3 translate = t->getVec3("translate", Vec3(0.f));
+    t->checkUnused();
+    if (scale.x == 0 || scale.y == 0 || scale.z == 0) t->fail("scale", "makes the transform non-invertible");
+    m = glm::translate(Mat4(1.f), translate);
+    m = glm::rotate(m, glm::radians(rz), Vec3(0, 0, 1));
+    m = glm::rotate(m, glm::radians(ry), Vec3(0, 1, 0));
+    m = glm::rotate(m, glm::radians(rx), Vec3(1, 0, 0));
+    m = glm::scale(m, scale);
+  }
+  return glm::scale(Mat4(1.f), Vec3(ctx.worldScale)) * m;
+}
+
+TriangleMesh rectangleMesh() {
+  TriangleMesh m;
+  m.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  return m;
+}
+
+// The unit disc at z = 0 facing +z, as a regular polygon of `segments` sides
+// (area (n/2)·sin(2π/n), 0.01 % short of π at 256), uv = (r, φ/2π) as
+// Mitsuba's disk; each fan triangle has its own centre vertex, so that φ is
+// continuous within it.
+TriangleMesh diskMesh(int segments) {
+  TriangleMesh m;
+  for (int i = 0; i < segments; ++i) {
+    float phi0 = 2 * Pi * i / segments, phi1 = 2 * Pi * (i + 1) / segments;
+    unsigned b = unsigned(m.positions.size());
+    m.positions.push_back(Vec3(0.f));
+    m.positions.push_back(Vec3(std::cos(phi0), std::sin(phi0), 0));
+    m.positions.push_back(Vec3(std::cos(phi1), std::sin(phi1), 0));
+    m.uvs.push_back(Vec2(0, (i + 0.5f) / segments));
+    m.uvs.push_back(Vec2(1, float(i) / segments));
+    m.uvs.push_back(Vec2(1, float(i + 1) / segments));
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  return m;
+}
+
+// [-1,1]³ as Mitsuba's cube: 24 vertices, each face mapped onto [0,1]² of
+// texture space, windings outward (the geometric normal follows the winding).
+TriangleMesh boxMesh() {
+  TriangleMesh m;
+  m.positions = {{1, -1, -1}, {1, -1, 1},  {-1, -1, 1}, {-1, -1, -1},  // -y
+                 {1, 1, -1},  {-1, 1, -1}, {-1, 1, 1},  {1, 1, 1},     // +y
+                 {1, -1, -1}, {1, 1, -1},  {1, 1, 1},   {1, -1, 1},    // +x
+                 {1, -1, 1},  {1, 1, 1},   {-1, 1, 1},  {-1, -1, 1},   // +z
+                 {-1, -1, 1}, {-1, 1, 1},  {-1, 1, -1}, {-1, -1, -1},  // -x
+                 {1, 1, -1},  {1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}}; // -z
+  for (unsigned face = 0; face < 6; ++face) {
+    unsigned b = 4 * face;
+    m.triangles.push_back({b, b + 1, b + 2});
+    m.triangles.push_back({b + 3, b, b + 2});
+    for (Vec2 uv : {Vec2(0, 1), Vec2(1, 1), Vec2(1, 0), Vec2(0, 0)}) m.uvs.push_back(uv);
+  }
+  return m;
+}
+
+void readShape(Params& p, Scene& scene, LoadContext& ctx) {
+  std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box", "disk"});
+  // A material by name ("none": an absorber), else an error at `key` of `at`.
+  auto materialNamed = [&](Params& at, const std::string& key, const std::string& name) {
+    if (name == "none") return -1;
+    auto it = ctx.materials.find(name);
+    if (it == ctx.materials.end()) {
+      std::vector<std::string> names;
+      for (auto& kv : ctx.materials) names.push_back(kv.first);
+      std::string hint = closestMatch(name, names);
+      at.fail(key, "unknown material '" + name + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+    }
+    return it->second;
+  };
+  int material = ctx.defaultMaterial;
+  if (p.has("material")) material = materialNamed(p, "material", p.getString("material", ""));
+  std::vector<int> triangleMaterials;
+  Emission emission;
+  emission.radiance = p.getColor("emission", Color(0.f));
+  if (glm::any(glm::lessThan(emission.radiance, Color(0.f)))) p.fail("emission", "must not be negative");
+  emission.twoSided = p.getBool("two_sided", false);
+
+  Shape shape;
+  if (type == "sphere") {
+    Sphere s;
+    s.center = p.getVec3("center", Vec3(0.f)) * ctx.worldScale;
+    s.radius = p.getFloat("radius", 1.f) * ctx.worldScale;
+    s.flipNormals = p.getBool("flip_normals", false);
+    if (!(s.radius > 0) || !std::isfinite(s.radius)) p.fail("radius", "must be positive");
+    shape = Shape::sphere(s);
+  } else {
+    Mat4 toWorld = readTransform(p, ctx);
+    // Computed in double: a float determinant of 1e90 is Inf, of 1e-90 zero,
+    // and the message would say "not invertible" without saying why.
+    double det = std::abs(glm::determinant(glm::dmat4(toWorld)));
+    if (!(det >= double(std::numeric_limits<float>::min()) && det <= double(std::numeric_limits<float>::max()))) {
+      char msg[220];
+      std::snprintf(msg, sizeof msg, "scale (times world_scale) changes volumes by a factor of %g, beyond a float's "
+                    "range: the transform cannot be inverted in float (keep each axis's scale within about "
+                    "[2.3e-13, 6.9e12])", det);
+      p.fail("transform", msg);
+    }
+    TriangleMesh mesh;
+    size_t dropped = 0;
+    if (type == "mesh") {
+      std::string file = p.requireString("file");
+      bool smooth = p.getBool("smooth_normals", false);
+      // Flat shading: the file's vertex normals are ignored (Mitsuba's face_normals).
+      bool faceNormals = p.getBool("face_normals", false);
+      if (smooth && faceNormals) p.fail("face_normals", "cannot be combined with smooth_normals");
+      std::filesystem::path full = std::filesystem::path(ctx.folder) / file;
+      try {
+        MeshLoadResult r = loadMesh(full.string(), toWorld, smooth);
+        mesh = std::move(r.mesh);
+        if (faceNormals) mesh.normals.clear();
+        dropped = r.degenerateTriangles;
+      } catch (const std::runtime_error& e) {
+        p.fail("file", e.what());
+      }
+      // Per-group materials: `materials: {usemtl name: material}`; groups not
+      // named take `material` (one mesh, several materials, no splitting).
+      if (auto groups = p.getChild("materials")) {
+        if (mesh.groupNames.empty())
+          p.fail("materials", "the file has no usemtl groups to give materials to (use material)");
+        if (!mesh.groupsUnmatched.empty()) p.fail("materials", mesh.groupsUnmatched);
+        std::vector<int> byGroup(mesh.groupNames.size(), material);
+        for (auto it = groups->node().begin(); it != groups->node().end(); ++it) {
+          std::string group = it->first.as<std::string>();
+          auto g = std::find(mesh.groupNames.begin(), mesh.groupNames.end(), group);
+          if (g == mesh.groupNames.end()) {
+            std::string hint = closestMatch(group, mesh.groupNames);
+            groups->fail(group, "no usemtl group '" + group + "' in " + file + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+          }
+          byGroup[size_t(g - mesh.groupNames.begin())] = materialNamed(*groups, group, groups->getString(group, ""));
+        }
+        for (int g : mesh.triangleGroups) triangleMaterials.push_back(byGroup[size_t(g)]);
+        if (triangleMaterials.size() != mesh.triangles.size())
+          p.fail("materials", "internal: " + std::to_string(triangleMaterials.size()) + " group entries for " +
+                                  std::to_string(mesh.triangles.size()) + " triangles");
+      }
+    } else {
+      if (type == "disk") {
+        int segments = p.getInt("segments", 256);
+        if (segments < 3 || segments > 65536) p.fail("segments", "must be in [3, 65536]");
+        mesh = diskMesh(segments);
+      } else {
+        mesh = type == "box" ? boxMesh() : rectangleMesh();
+      }
+      dropped = transformMesh(mesh, toWorld);
+    }
+    // The geometric normal follows the winding (core/shape.cpp).
+    if (p.getBool("flip_normals", false)) {
+      for (auto& t : mesh.triangles) std::swap(t.y, t.z);
+      for (Vec3& n : mesh.normals) n = -n;
+    }
+    // An all-degenerate shape is an error (one line), not a warning and an error.
+    if (mesh.triangles.empty()) {
+      if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
+      p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
+    }
+    if (dropped) {
+      ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " +
+                             std::to_string(dropped) + " degenerate (zero-area) triangle(s)");
+      ctx.degenerateTriangles += dropped;
+    }
+    shape = Shape::mesh(std::move(mesh));
+  }
+  if (!isBlack(emission.radiance) && !(shape.area() > 0)) p.fail("emission", "emitter has zero area");
+  // An emitter's power, π·L·area (twice if two-sided), weighs its selection
+  // as a light's does (checkLightPowers); computed in double, it must fit a float.
+  // Only for an emitter: a large shape that emits nothing was refused under
+  // its `emission`, a key never written (0 × an area beyond a float is NaN).
+  if (double phi = (emission.twoSided ? 2 : 1) * Pi * double(std::max({emission.radiance.r, emission.radiance.g, emission.radiance.b})) *
+                   double(shape.area());
+      !isBlack(emission.radiance) && !(phi <= double(std::numeric_limits<float>::max())))
+    p.fail("emission", "the emitter's power (π × radiance × area) is beyond a float's range; lower it");
+  else if (!isBlack(emission.radiance))
+    ctx.lights.push_back({nullptr, p, "emission", phi});
+  p.checkUnused();
+  shape.materialId = material;
+  shape.triangleMaterials = std::move(triangleMaterials);
+  if (!shape.isSphere() && !shape.triangleMesh().uvSeam.empty()) {
+    bool textured = material >= 0 && scene.material(material).texture();
+    for (int m : shape.triangleMaterials) textured |= m >= 0 && scene.material(m).texture();
+    if (textured)
+      ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": " +
+                             shape.triangleMesh().uvSeam);
+  }
+  const Bounds3 box = shape.bounds();
+  // The key that put it there: a sphere's center if that alone is too far,
+  // else its radius (or its transform); a mesh's transform, else its file.
+  std::string placedBy = p.has("transform") ? "transform" : shape.isSphere() ? "radius" : "file";
+  if (shape.isSphere() && !(std::max({std::abs(box.center().x), std::abs(box.center().y), std::abs(box.center().z)}) <= kMaxCoordinate))
+    placedBy = "center";
+  checkCoordinates(p, placedBy, box.lo);
+  checkCoordinates(p, placedBy, box.hi);
+  scene.addShape(std::move(shape), emission);
+}
+
+}  // namespace lb::scene_file
