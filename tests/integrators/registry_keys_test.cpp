@@ -149,7 +149,7 @@ TEST(IntegratorKeys, TheDocsAreTheGeneratedListing) {
   std::string generated;
   for (const auto& e : integratorRegistry()) generated += formatIntegratorKeys(e.name, true) + "\n";
   EXPECT_TRUE(text.str() == generated)
-      << "docs/integrators.md is stale: run ./build/lightbench integrators --markdown > docs/integrators.md";
+      << "docs/integrators.md is stale: run bash scripts/update-docs.sh";
 }
 
 // The docs' lists of integrators by property (which split, which may render
@@ -175,8 +175,8 @@ TEST(IntegratorKeys, TheDocsListsByPropertyAreGenerated) {
       std::string property = (*it)[1];
       used.insert(property);
       EXPECT_EQ((*it)[2].str(), integratorsWith(property))
-          << f.lexically_relative(root) << ": put what ./build/lightbench integrators --with " << property
-          << " prints between its markers";
+          << f.lexically_relative(root) << ": stale list of integrators --with " << property
+          << ": run bash scripts/update-docs.sh";
     }
   }
   for (const std::string& p : integratorProperties()) EXPECT_TRUE(used.count(p)) << "no docs list for '" << p << "'";
