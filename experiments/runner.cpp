@@ -1,4 +1,5 @@
 #include "experiments/runner.h"
+#include "experiments/runner_parts.h"
 #include "experiments/report_step.h"
 #include <tbb/info.h>
 #include <algorithm>
@@ -31,6 +32,8 @@
 namespace fs = std::filesystem;
 
 namespace lb {
+
+using namespace runner;
 
 namespace {
 
@@ -68,78 +71,7 @@ fs::path createRunDir(const Experiment& e, const RunnerOptions& o) {
   return dir;
 }
 
-// decomposition.csv: each configuration's final MSE split into bias² and
-// variance over its repeats, with 95 % intervals (experiments/decomposition.h).
-// Read back from the run folder, so a resumed run includes the earlier runs;
-// the repeats [0, targets[scene][configuration]) of a sequential run.
-void writeDecomposition(const Experiment& e, const fs::path& runDir, const std::vector<Reference>& references,
-                        const RepeatTargets& targets) {
-  std::ostringstream csv;
-  csv << "scene,label,integrator,repeats,mse,bias2,bias2_low,bias2_high,variance,variance_low,variance_high,"
-         "reference_variance\n";
-  for (size_t si = 0; si < e.scenes.size(); ++si)
-    for (size_t ci = 0; ci < e.configurations.size(); ++ci) {
-      const Configuration& c = e.configurations[ci];
-      std::string stem = (runDir / (e.scenes[si].name + "__" + slug(c.label))).string();
-      // The repeats whose images are there: a run resumed from a folder that
-      // a version without them started has fewer. Never fails the run.
-      std::vector<Image> finals;
-      for (int r = 0; r < targets[si][ci]; ++r)
-        if (fs::exists(repeatImagePath(stem, r))) finals.push_back(readExr(repeatImagePath(stem, r)));
-      if (finals.size() < 2) {
-        std::cerr << "warning: " << e.scenes[si].name << " / " << c.label << ": " << finals.size()
-                  << " final image(s) of its repeats in the run folder; no bias²/variance split\n";
-        continue;
-      }
-      ErrorDecomposition d = decomposeError(finals, references[si].image, references[si].variance);
-      csv << csvField(e.scenes[si].name) << "," << csvField(c.label) << "," << c.integrator << "," << d.repeats;
-      // An unknown reference variance (a given EXR) is an empty field: bias²
-      // then includes it (the report says so).
-      for (double v : {d.mse, d.bias2, d.bias2Low, d.bias2High, d.variance, d.varianceLow, d.varianceHigh,
-                       d.referenceVariance})
-        csv << "," << (std::isfinite(v) ? logNumber(v) : "");
-      csv << "\n";
-    }
-  writeTextFile((runDir / "decomposition.csv").string(), csv.str());
-}
 
-// Tasks a farm's worker is given (experiments/cluster.h), by kind.
-enum TaskKind : uint64_t { ReferenceChunkTask = 1, RunTaskKind = 2 };
-
-// Threads per run: --threads, else the cores this process may use shared
-// among the runs at once (--jobs) or the workers on this node.
-int threadsPerRun(const RunnerOptions& o, int sharers) {
-  if (o.threads > 0) return o.threads;
-  return std::max(1, tbb::info::default_concurrency() / std::max(1, sharers));
-}
-
-// What a resumed run must share with the one it continues: the experiment as
-// read, its budget and repeats, and its references' keys.
-std::string experimentHashOf(const Experiment& e, const std::vector<std::string>& referenceIds) {
-  std::vector<std::string> parts = {YAML::Dump(e.source), std::to_string(e.budget.seconds),
-                                    std::to_string(e.budget.spp), std::to_string(e.repeats)};
-  parts.insert(parts.end(), referenceIds.begin(), referenceIds.end());
-  return hashStrings(parts);
-}
-
-// What every rank must share to work on one experiment: that, the run
-// scenes' bytes and the build (the references' keys already hash their
-// scenes, meshes and the rendering code). A worker that reads another copy
-// (a stale file on a node, another build) refuses its tasks.
-std::string jobIdentity(const Experiment& e, const std::string& experimentHash) {
-  std::vector<std::string> parts = {experimentHash, renderSourceHash(), LIGHTBENCH_GIT};
-  for (const auto& s : e.scenes) parts.push_back(fileBytes(s.path));
-  return hashStrings(parts);
-}
-
-std::vector<std::string> referenceIdsOf(const Experiment& e) {
-  std::vector<std::string> ids;
-  for (const auto& s : e.scenes)
-    ids.push_back(s.reference.file.empty() ? referenceKey(s) : s.reference.file + "|" + s.reference.varianceFile);
-  return ids;
-}
-
-MachineColumns thisMachine(int threads) { return {hostName(), cpuModel(), threads}; }
 
 // A run's rows as the log gets them: the snapshots in order, then its raw
 // final row, which marks the run finished for --resume, then the denoised
@@ -151,28 +83,6 @@ std::vector<std::vector<std::string>> inLogOrder(std::vector<std::vector<std::st
   return rows;
 }
 
-std::string encodeRunResult(const std::vector<std::vector<std::string>>& rows, const RunOutcome& out) {
-  ByteWriter w;
-  w.u64(rows.size());
-  for (const auto& r : rows) {
-    w.u64(r.size());
-    for (const auto& f : r) w.str(f);
-  }
-  w.image(out.image).u64(out.denoised ? 1 : 0);
-  if (out.denoised) w.image(*out.denoised);
-  return w.take();
-}
-
-void decodeRunResult(const std::string& bytes, std::vector<std::vector<std::string>>& rows, RunOutcome& out) {
-  ByteReader r(bytes);
-  rows.resize(r.u64());
-  for (auto& row : rows) {
-    row.resize(r.u64());
-    for (auto& f : row) f = r.str();
-  }
-  out.image = r.image();
-  if (r.u64()) out.denoised = r.image();
-}
 
 }  // namespace
 
@@ -498,70 +408,5 @@ std::string runExperiment(const Experiment& e, const RunnerOptions& o) {
   return runDir.string();
 }
 
-int serveExperiment(const std::string& experimentFile, const ExperimentOptions& eo, const RunnerOptions& o) {
-  Farm& farm = *o.farm;
-  // Loaded at the first task, which rank 0 sends only once its own checks
-  // passed: a bad input is reported once, by rank 0.
-  std::optional<Experiment> e;
-  std::optional<CheckedExperiment> checked;
-  std::optional<RunEnvironment> env;
-  std::map<size_t, SceneFile> referenceScenes;
-  std::map<size_t, Image> references, referenceVariances;
-  const int threads = workerThreads(o.threads, farm.cluster());
-  std::string identity;  // jobIdentity, as this rank reads the files
-  const std::string me = "[rank " + std::to_string(farm.cluster().rank()) + "] ";
-  enableFlushToZeroOnAllThreads();
-  tbb::task_arena arena(threads);
-  return farm.serve([&](const std::string& bytes) {
-    if (!e) {
-      // mpirun binds each rank to one core by default when there are at most
-      // 2 ranks: the rank then renders with the cores it may use, and says so
-      // at its first task, which comes only once rank 0 accepted the input (a
-      // refused one gets rank 0's one error line, and nothing after it).
-      int share = int(std::thread::hardware_concurrency()) / std::max(1, farm.cluster().workersOnThisNode());
-      if (threads < share)
-        std::fprintf(stderr, "%snote: may use %d of this node's %u cores (mpirun's binding), so its runs get %d thread(s); "
-                     "mpirun --bind-to none gives each of the node's %d worker rank(s) %d\n", me.c_str(), threads,
-                     std::thread::hardware_concurrency(), threads, farm.cluster().workersOnThisNode(), share);
-      e = loadExperiment(experimentFile, eo);
-      checked = validateExperiment(*e);
-      env = makeRunEnvironment(*e, checked->scenes, thisMachine(threads));
-      identity = jobIdentity(*e, experimentHashOf(*e, referenceIdsOf(*e)));
-    }
-    ByteReader r(bytes);
-    if (r.str() != identity)
-      throw ConfigError(experimentFile, 0, "", "this rank (" + hostName() + ") reads another experiment, other scene "
-                        "files or runs another lightbench build than rank 0; every rank must see the same files "
-                        "(a shared file system) and run the same build");
-    uint64_t kind = r.u64();
-    size_t si = r.u64();
-    const ExperimentScene& es = e->scenes.at(si);
-    std::string result;
-    if (kind == ReferenceChunkTask) {
-      uint64_t k = r.u64();
-      if (!referenceScenes.count(si)) referenceScenes.emplace(si, loadReferenceScene(es));
-      arena.execute([&] { result = chunkResult(k, renderReferenceChunk(es, referenceScenes.at(si), k)); });
-      return result;
-    }
-    RunTask t;
-    t.scene = si;
-    t.config = r.u64();
-    t.repeat = int(r.u64());
-    if (r.u64()) references[si] = r.image(), referenceVariances[si] = r.image();
-    const Configuration& c = e->configurations.at(t.config);
-    std::vector<std::vector<std::string>> rows;
-    arena.execute([&] {
-      RunOutcome outcome = performRun(
-          *env, t, references.at(si), referenceVariances.at(si), [&](std::vector<std::string>&& row) { rows.push_back(std::move(row)); },
-          [&](const RunProgress& p) {
-            std::fprintf(stderr, "%s%s / %-22s repeat %d  snapshot %zu/%zu  t=%.2fs spp=%llu RMSE=%.4g%s\n",
-                         me.c_str(), es.name.c_str(), ("'" + c.label + "'").c_str(), t.repeat + 1, p.snapshot,
-                         p.snapshots, p.seconds, (unsigned long long)p.passes, p.rmse, p.final ? " final" : "");
-          });
-      result = encodeRunResult(rows, outcome);
-    });
-    return result;
-  });
-}
 
 }  // namespace lb
