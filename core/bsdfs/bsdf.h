@@ -69,16 +69,19 @@ class BSDF {
   // "The hemisphere" of a surface for an integrator that samples one
   // (ambient occlusion, gathering), defined once (issue 39): a cosine-weighted
   // direction on wo's side of the shading normal, with its density
-  // |cos θ|/π per solid angle. nullopt where that direction would leak: on
-  // the other side of the geometric normal (see leaks above; with
-  // interpolated normals near a silhouette).
+  // |cos θ|/π per solid angle. nullopt where wo or that direction would leak:
+  // lie on the other side of the geometric normal than of the shading normal
+  // (see leaks above; with interpolated normals near a silhouette), as
+  // sample(), eval() and pdf() refuse them.
   struct HemisphereSample {
     Vec3 wi;
     float pdf;
   };
   std::optional<HemisphereSample> sampleCosineOnWoSide(const Vec3& woWorld, Vec2 u) const {
+    Vec3 wo = frame_.toLocal(woWorld);
+    if (wo.z == 0 || leaks(woWorld, wo)) return std::nullopt;
     Vec3 local = sampleCosineHemisphere(u);
-    if (glm::dot(woWorld, frame_.n) < 0) local.z = -local.z;
+    if (wo.z < 0) local.z = -local.z;
     Vec3 wi = frame_.toWorld(local);
     if (local.z == 0 || leaks(wi, local)) return std::nullopt;
     return HemisphereSample{wi, std::abs(local.z) * InvPi};

@@ -226,6 +226,17 @@ TEST(Bsdfs, CosineHemisphereOnWoSideKeepsItsSideAndRefusesLeaks) {
       double bound = normalCritical(0.001 / 6) * std::sqrt(n * p * (1 - p)) + 0.5;
       EXPECT_NEAR(refused, n * p, bound) << "alpha " << alphaDeg << " wo " << woSign;
     }
+    // A wo above the geometric plane but below the shading normal leaks
+    // itself (sample() refuses it): no direction at all, never one through
+    // the surface (a review found the first version returned them).
+    if (alphaDeg > 0) {
+      si.wo = glm::normalize(Vec3(-1.f, 0.f, 0.5f * std::tan(alpha)));
+      ASSERT_GT(glm::dot(si.wo, si.ng), 0);
+      ASSERT_LT(glm::dot(si.wo, si.shading.n), 0);
+      BSDF bsdf(si);
+      Pcg32 rng(13, uint64_t(alphaDeg));
+      for (int i = 0; i < 1000; ++i) EXPECT_FALSE(bsdf.sampleCosineOnWoSide(si.wo, rng.next2D())) << alphaDeg;
+    }
   }
 }
 
