@@ -10,7 +10,10 @@ cd "$(dirname "$0")/.."
 bin=./build/lightbench
 [ -x "$bin" ] || { echo "error: $bin not built (cmake --build build -j2)" >&2; exit 2; }
 tmp=$(mktemp docs/.integrators.md.XXXXXX)
-"$bin" integrators --markdown > "$tmp" && chmod 644 "$tmp" && mv "$tmp" docs/integrators.md
+trap 'rm -f "$tmp"' EXIT
+"$bin" integrators --markdown > "$tmp"
+chmod --reference=docs/integrators.md "$tmp"
+mv "$tmp" docs/integrators.md
 for f in README.md docs/*.md; do
   LIGHTBENCH="$bin" /usr/bin/python3 - "$f" <<'PY'
 import os, re, subprocess, sys, tempfile

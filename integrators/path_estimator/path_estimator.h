@@ -143,6 +143,9 @@ class PathObserver {
   // `bsdf` is null where the path ends.
   virtual void shaded(const SurfaceInteraction& si, const BSDF* bsdf, const Color& emitted, const Color& added) = 0;
   // The path scattered at `si` into `s.ray` (`s.beta`, `s.prevPdf`, `s.prevDelta` updated).
+  // With first_bounce_samples > 1 the branches are reported depth first, one
+  // whole branch after another: an observer that keeps per-path state must
+  // tell them apart by s.branch (the guided integrator never branches).
   virtual void scattered(const SurfaceInteraction& si, const PathState& s) = 0;
 };
 
