@@ -118,14 +118,14 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     bool hit = c.scene.intersect(s.ray, si);
     if (s.vertex == 0 && hit && firstHitDistance) *firstHitDistance = si.t;
     std::optional<BSDF> bsdf;
-    Color before = L;
+    const Color before = L;
     int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
-    Color emitted = L - before;
+    const Color afterEmission = L;
     for (int i = 0; i < n; ++i) {
       ++rays;
       if (!c.scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
     }
-    if (observer) observer->shaded(si, bsdf ? &*bsdf : nullptr, emitted, L - before);
+    if (observer) observer->shaded(si, bsdf ? &*bsdf : nullptr, afterEmission - before, L - before);
     if (!bsdf) break;
     // M branches at the first vertex, each carrying β/M and its own slots.
     if (s.vertex == 0 && M > 1) {
