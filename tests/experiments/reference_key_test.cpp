@@ -28,6 +28,9 @@ class IntegratorSourceHash : public ::testing::Test {
     fs::create_directories(dir_);
     for (const char* sub : {"core", "integrators"})
       fs::copy(fs::path(LIGHTBENCH_SOURCE_DIR) / sub, dir_ / sub, fs::copy_options::recursive);
+    fs::create_directories(dir_ / "experiments");
+    for (const char* file : {"experiments/chunks.h", "experiments/chunks.cpp"})
+      fs::copy(fs::path(LIGHTBENCH_SOURCE_DIR) / file, dir_ / file);
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -47,6 +50,18 @@ class IntegratorSourceHash : public ::testing::Test {
     return out;
   }
   void touch(const std::string& file) { std::ofstream(dir_ / file, std::ios::app) << "\n// edited\n"; }
+  // Replaces the first `from` in `file` by `to`; false if there is none.
+  bool edit(const std::string& file, const std::string& from, const std::string& to) {
+    std::ifstream in(dir_ / file);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    size_t at = s.find(from);
+    if (at == std::string::npos) return false;
+    s.replace(at, from.size(), to);
+    std::ofstream(dir_ / file, std::ios::trunc) << s;
+    return true;
+  }
   // Which integrators' hashes differ between two tables.
   static std::set<std::string> changed(const std::map<std::string, std::string>& a,
                                        const std::map<std::string, std::string>& b) {
@@ -79,11 +94,24 @@ TEST_F(IntegratorSourceHash, ChangesWithTheCodeItsIntegratorUsesAndOnlyThen) {
   auto afterCore = hashes();
   EXPECT_EQ(changed(beforeCore, afterCore).size(), beforeCore.size());
   touch("integrators/render_loop.cpp");
-  EXPECT_EQ(changed(afterCore, hashes()).size(), beforeCore.size());
-  // The registry names every integrator but computes none: no reference changes.
-  auto beforeRegistry = hashes();
+  auto afterLoop = hashes();
+  EXPECT_EQ(changed(afterCore, afterLoop).size(), beforeCore.size());
+  // How a reference's seeded chunks are rendered and averaged: all of them.
+  touch("experiments/chunks.cpp");
+  auto afterChunks = hashes();
+  EXPECT_EQ(changed(afterLoop, afterChunks).size(), beforeCore.size());
+  // The registry names every integrator: a change outside the table (or to
+  // the docs generated from it) changes no reference; a change to one entry
+  // (how its settings are read, which configurations are unbiased) changes
+  // that integrator's only.
   touch("integrators/registry.cpp");
-  EXPECT_TRUE(changed(beforeRegistry, hashes()).empty());
+  auto afterRegistry = hashes();
+  EXPECT_TRUE(changed(afterChunks, afterRegistry).empty());
+  ASSERT_TRUE(edit("integrators/registry.cpp", "p[\"mode\"].Scalar() == \"bpt\"", "p[\"mode\"].Scalar() == \"ppm\""));
+  auto afterVcmEntry = hashes();
+  EXPECT_EQ(changed(afterRegistry, afterVcmEntry), std::set<std::string>{"vcm"});
+  ASSERT_TRUE(edit("integrators/registry.cpp", "PathTracerSettings::read(p)", "PathTracerSettings::read(p) "));
+  EXPECT_EQ(changed(afterVcmEntry, hashes()), std::set<std::string>{"path"});
 }
 
 TEST(ReferenceKey, UsesItsIntegratorsSourceHash) {
