@@ -1,7 +1,4 @@
 #include "integrators/registry.h"
-#include <algorithm>
-#include <iomanip>
-#include <sstream>
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct_lighting.h"
 #include "integrators/guided/guided.h"
@@ -69,93 +66,6 @@ bool integratorReadsKey(const std::string& name, const std::string& key) {
 
 std::function<bool(const std::string& key)> keysReadBy(const std::string& name) {
   return [name](const std::string& key) { return integratorReadsKey(name, key); };
-}
-
-const std::vector<std::string>& integratorProperties() {
-  static const std::vector<std::string> names = {"splits", "unbiased", "adaptive", "replay"};
-  return names;
-}
-
-namespace {
-
-bool hasProperty(const IntegratorEntry& e, const std::string& property, const YAML::Node& yaml) {
-  if (property == "unbiased") return e.unbiased(yaml);
-  Params p(YAML::Clone(yaml), "", "integrator");
-  auto integrator = e.create(p);
-  if (property == "splits") return integrator->splitRefusal().empty();
-  if (property == "adaptive") return integrator->adaptiveRefusal().empty();
-  return integrator->replaysSamples();
-}
-
-// The values of `allowed` ("a, b, c") of a choice key.
-std::vector<std::string> choices(const std::string& allowed) {
-  std::vector<std::string> out;
-  std::stringstream s(allowed);
-  std::string v;
-  while (std::getline(s, v, ',')) out.push_back(v.substr(v.find_first_not_of(' ')));
-  return out;
-}
-
-}  // namespace
-
-std::string integratorsWith(const std::string& property) {
-  const auto& known = integratorProperties();
-  if (std::find(known.begin(), known.end(), property) == known.end()) {
-    std::string list;
-    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    throw ConfigError("command line", 0, "--with", "unknown property '" + property + "' (one of: " + list + ")");
-  }
-  std::string out;
-  for (const auto& e : integratorRegistry()) {
-    bool byDefault = hasProperty(e, property, YAML::Node(YAML::NodeType::Map));
-    std::vector<std::string> exceptions;  // settings under which it differs from its default
-    for (const KeyDoc& k : integratorKeys(e.name)) {
-      if (k.type != "choice" || !k.condition.empty()) continue;
-      for (const std::string& value : choices(k.allowed)) {
-        if (value == k.fallback) continue;
-        YAML::Node yaml(YAML::NodeType::Map);
-        yaml[k.key] = value;
-        if (hasProperty(e, property, yaml) != byDefault) exceptions.push_back("`" + k.key + ": " + value + "`");
-      }
-    }
-    std::string joined;
-    for (size_t i = 0; i < exceptions.size(); ++i) joined += (i == 0 ? "" : " or ") + exceptions[i];
-    std::string item;
-    if (byDefault) item = "`" + e.name + "`" + (exceptions.empty() ? "" : " (not with " + joined + ")");
-    else if (!exceptions.empty()) item = "`" + e.name + "` with " + joined;
-    if (!item.empty()) out += (out.empty() ? "" : ", ") + item;
-  }
-  return out;
-}
-
-std::string formatIntegratorKeys(const std::string& name, bool markdown) {
-  const IntegratorEntry* entry = nullptr;
-  for (const auto& e : integratorRegistry())
-    if (e.name == name) entry = &e;
-  std::vector<KeyDoc> keys = integratorKeys(name);
-  std::ostringstream out;
-  auto allowed = [](const KeyDoc& k) { return k.allowed.empty() ? std::string("any") : k.allowed; };
-  auto meaning = [](const KeyDoc& k) { return k.condition.empty() ? k.meaning : k.meaning + " (" + k.condition + " only)"; };
-  if (markdown) {
-    out << "## " << name << "\n\n" << entry->summary << ".\n\n| key | type | default | allowed | meaning |\n|---|---|---|---|---|\n";
-    for (const auto& k : keys)
-      out << "| `" << k.key << "` | " << k.type << " | `" << k.fallback << "` | " << allowed(k) << " | " << meaning(k) << " |\n";
-    return out.str();
-  }
-  out << name << ": " << entry->summary << "\n";
-  size_t w[4] = {3, 4, 7, 7};
-  for (const auto& k : keys) {
-    w[0] = std::max(w[0], k.key.size()), w[1] = std::max(w[1], k.type.size());
-    w[2] = std::max(w[2], k.fallback.size()), w[3] = std::max(w[3], allowed(k).size());
-  }
-  auto row = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d,
-                 const std::string& e) {
-    out << "  " << std::left << std::setw(int(w[0])) << a << "  " << std::setw(int(w[1])) << b << "  "
-        << std::setw(int(w[2])) << c << "  " << std::setw(int(w[3])) << d << "  " << e << "\n";
-  };
-  row("key", "type", "default", "allowed", "meaning");
-  for (const auto& k : keys) row(k.key, k.type, k.fallback, allowed(k), meaning(k));
-  return out.str();
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, Params& params, const std::string& file,

@@ -32,20 +32,6 @@ std::vector<KeyDoc> integratorKeys(const std::string& name);
 // scene's max_depth goes to the integrators that read it (withSharedIntegratorKeys).
 bool integratorReadsKey(const std::string& name, const std::string& key);
 std::function<bool(const std::string& key)> keysReadBy(const std::string& name);
-// The docs' lists of integrators by what they support, generated here so they
-// cannot go stale (issue 39; `lightbench integrators --with PROPERTY` prints
-// one, and a test checks every marked list in README.md and docs/):
-//   splits    `render --distributed` splits it into chunks (splitRefusal() "")
-//   unbiased  it may render an experiment's reference (IntegratorEntry::unbiased)
-//   adaptive  `--adaptive` / `adaptive:` can drive it (adaptiveRefusal() "")
-//   replay    `--pixel X,Y --sample I` replays one of its samples (replaysSamples())
-// Each integrator is tried at its defaults and with each value of each of its
-// choice keys: "`path`, `vcm` with `mode: bpt`, `guided` (not with `method:
-// qlearning`)". Throws ConfigError for an unknown property.
-std::string integratorsWith(const std::string& property);
-const std::vector<std::string>& integratorProperties();
-// The table `lightbench integrators NAME` prints; markdown for docs/integrators.md.
-std::string formatIntegratorKeys(const std::string& name, bool markdown);
 // `params` holds the integrator's keys (without `name`). Unknown names list the
 // valid ones.
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, Params& params, const std::string& file = "",

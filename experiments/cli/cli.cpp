@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include "experiments/cli/commands.h"
 #include "experiments/cli/flag_checks.h"
@@ -9,6 +10,7 @@
 #include "core/error.h"
 #include "core/params.h"
 #include "integrators/registry.h"
+#include "integrators/registry_docs.h"
 
 namespace lb {
 
@@ -134,6 +136,16 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
                           "The integrators with a property, as the docs list them: splits (--distributed), unbiased "
                           "(references), adaptive (--adaptive), replay (--pixel)")
       ->check(CLI::IsMember(integratorProperties()));
+  std::string withoutProperty;
+  integrators->add_option("--without", withoutProperty,
+                          "The integrators without a property, each with the reason it gives (as docs/distributed.md "
+                          "lists those that cannot be split)")
+      ->check(CLI::IsMember(integratorProperties()));
+  bool names = false, fillLists = false;
+  integrators->add_flag("--names", names, "Every integrator's name on one line, as README.md lists them");
+  integrators->add_flag("--fill-lists", fillLists,
+                        "Copy markdown from standard input to standard output with every marked list of integrators "
+                        "(<!-- integrators SPEC -->) as generated now (scripts/update-docs.sh uses it)");
 
   std::string shell;
   CLI::App* completion = app.add_subcommand("completion", "Print a shell completion script: source <(lightbench completion bash)");
@@ -195,6 +207,9 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   if (app.got_subcommand("integrators")) {
     return withErrorExitCodes([&] {
       if (!withProperty.empty()) std::cout << integratorsWith(withProperty) << "\n";
+      else if (!withoutProperty.empty()) std::cout << integratorsWithout(withoutProperty);
+      else if (names) std::cout << integratorNames() << "\n";
+      else if (fillLists) std::cout << withCurrentIntegratorLists(std::string(std::istreambuf_iterator<char>(std::cin), {}), "standard input");
       else if (!integratorName.empty()) std::cout << formatIntegratorKeys(integratorName, markdown);
       else if (markdown)
         for (const auto& e : integratorRegistry()) std::cout << formatIntegratorKeys(e.name, true) << "\n";

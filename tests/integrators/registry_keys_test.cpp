@@ -4,13 +4,16 @@
 // listed range is enforced at its ends, an unlisted key is refused with the
 // valid keys named — and that docs/integrators.md is the listing as generated.
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
 #include "integrators/registry.h"
+#include "integrators/registry_docs.h"
 
 namespace lb {
 namespace {
@@ -152,34 +155,92 @@ TEST(IntegratorKeys, TheDocsAreTheGeneratedListing) {
       << "docs/integrators.md is stale: run bash scripts/update-docs.sh";
 }
 
-// The docs' lists of integrators by property (which split, which may render
-// a reference, which --adaptive drives, which replay a sample) are generated
-// (issue 39: four docs kept them by hand, and two had gone stale: `direct`
-// and `guided` missing). Each sits between markers
-//   <!-- integrators --with PROPERTY -->…<!-- /integrators -->
-// and must be what `lightbench integrators --with PROPERTY` prints.
-TEST(IntegratorKeys, TheDocsListsByPropertyAreGenerated) {
+// The docs' lists of integrators (all of them in README.md; by property:
+// which split, which may render a reference, which --adaptive drives, which
+// replay a sample; and those that cannot be split, with the reason) are
+// generated (issue 39: four docs kept them by hand, and two had gone stale:
+// `direct` and `guided` missing). Each sits between markers
+//   <!-- integrators SPEC -->…<!-- /integrators -->
+// and must be what `lightbench integrators SPEC` generates now.
+TEST(IntegratorKeys, TheDocsListsOfIntegratorsAreGenerated) {
   namespace fs = std::filesystem;
   const fs::path root = LIGHTBENCH_SOURCE_DIR;
   std::vector<fs::path> files{root / "README.md"};
   for (const auto& e : fs::directory_iterator(root / "docs"))
     if (e.path().extension() == ".md") files.push_back(e.path());
-  std::regex marked("<!-- integrators --with ([a-z]+) -->([^\n]*?)<!-- /integrators -->");
-  std::set<std::string> used;
+  std::set<std::string> specs;
   for (const fs::path& f : files) {
     std::ifstream in(f);
     std::stringstream text;
     text << in.rdbuf();
     std::string s = text.str();
-    for (std::sregex_iterator it(s.begin(), s.end(), marked), end; it != end; ++it) {
-      std::string property = (*it)[1];
-      used.insert(property);
-      EXPECT_EQ((*it)[2].str(), integratorsWith(property))
-          << f.lexically_relative(root) << ": stale list of integrators --with " << property
-          << ": run bash scripts/update-docs.sh";
+    std::string current = withCurrentIntegratorLists(s, f.string());
+    if (current != s) {  // name the first stale line, not the whole file
+      size_t at = std::mismatch(s.begin(), s.end(), current.begin(), current.end()).first - s.begin();
+      size_t from = s.rfind('\n', at == 0 ? 0 : at - 1);
+      from = from == std::string::npos ? 0 : from + 1;
+      ADD_FAILURE() << f.lexically_relative(root) << ":" << 1 + std::count(s.begin(), s.begin() + long(from), '\n')
+                    << ": a stale list of integrators (run bash scripts/update-docs.sh):\n  is:        "
+                    << s.substr(from, s.find('\n', at) - from) << "\n  generated: "
+                    << current.substr(from, current.find('\n', at) - from);
+    }
+    std::regex marker("<!-- integrators ([^>]*) -->");
+    for (std::sregex_iterator it(s.begin(), s.end(), marker), end; it != end; ++it) specs.insert((*it)[1]);
+  }
+  for (const std::string& p : integratorProperties()) EXPECT_TRUE(specs.count("--with " + p)) << "no docs list for '" << p << "'";
+  EXPECT_TRUE(specs.count("--names"));
+  EXPECT_TRUE(specs.count("--without splits"));
+}
+
+TEST(IntegratorKeys, MarkedListsAreFilledAndBadMarkersNamed) {
+  std::string text = "a <!-- integrators --names -->old<!-- /integrators --> b\n"
+                     "<!-- integrators --without splits -->\n- stale\n<!-- /integrators -->\n";
+  std::string filled = withCurrentIntegratorLists(text, "x.md");
+  EXPECT_EQ(filled, "a <!-- integrators --names -->" + integratorNames() + "<!-- /integrators --> b\n" +
+                        "<!-- integrators --without splits -->\n" + integratorsWithout("splits") +
+                        "<!-- /integrators -->\n");
+  EXPECT_EQ(withCurrentIntegratorLists(filled, "x.md"), filled);
+  EXPECT_THROW(withCurrentIntegratorLists("\n<!-- integrators --fast --><!-- /integrators -->", "x.md"), ConfigError);
+  EXPECT_THROW(withCurrentIntegratorLists("<!-- integrators --names -->`path`", "x.md"), ConfigError);
+}
+
+// docs/integrator-guide.md explains each integrator in its own section
+// ("## … (`name`)"), some with a table of the keys that matter most. Those
+// tables are written by hand, so every key must be one the integrator reads,
+// with the default it has (a row may pair keys: "`rr`, `rr_depth` | `true`, `3`").
+TEST(IntegratorKeys, TheGuidesKeyTablesMatchTheCode) {
+  std::ifstream in(std::string(LIGHTBENCH_SOURCE_DIR) + "/docs/integrator-guide.md");
+  ASSERT_TRUE(in) << "docs/integrator-guide.md";
+  std::regex section(R"(^## .*\(`([a-z_]+)`\)\s*$)"), row(R"(^\| (`[^|]*`) \| (`[^|]*`) \|)"), code("`([^`]*)`");
+  auto quoted = [&](const std::string& cell) {
+    std::vector<std::string> out;
+    for (std::sregex_iterator it(cell.begin(), cell.end(), code), end; it != end; ++it) out.push_back((*it)[1]);
+    return out;
+  };
+  std::string name, line;
+  bool inKeyTable = false;
+  int rows = 0, lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    std::smatch m;
+    if (std::regex_match(line, m, section)) name = m[1];
+    else if (line.rfind("## ", 0) == 0) name.clear();
+    if (line == "| key | default | meaning |") inKeyTable = true;
+    else if (line.empty()) inKeyTable = false;
+    if (!inKeyTable || !std::regex_search(line, m, row)) continue;
+    ASSERT_FALSE(name.empty()) << "integrator-guide.md:" << lineNumber << ": a key table outside an integrator's section";
+    std::vector<std::string> keys = quoted(m[1]), defaults = quoted(m[2]);
+    ASSERT_EQ(keys.size(), defaults.size()) << "integrator-guide.md:" << lineNumber;
+    std::map<std::string, std::string> read;
+    for (const KeyDoc& k : integratorKeys(name)) read[k.key] = k.fallback;
+    for (size_t i = 0; i < keys.size(); ++i, ++rows) {
+      ASSERT_TRUE(read.count(keys[i])) << "integrator-guide.md:" << lineNumber << ": " << name << " reads no key "
+                                       << keys[i];
+      EXPECT_EQ(defaults[i], read[keys[i]]) << "integrator-guide.md:" << lineNumber << ": " << name << "'s "
+                                            << keys[i];
     }
   }
-  for (const std::string& p : integratorProperties()) EXPECT_TRUE(used.count(p)) << "no docs list for '" << p << "'";
+  EXPECT_GE(rows, 10);  // the path tracer's and BDPT's tables were read
 }
 
 TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
@@ -194,6 +255,14 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   EXPECT_NE(integratorsWith("adaptive").find("`path` (not with `engine: wavefront`)"), std::string::npos);
   EXPECT_EQ(integratorsWith("adaptive").find("`bdpt`"), std::string::npos);
   EXPECT_THROW(integratorsWith("fast"), ConfigError);
+  // Those that cannot be split carry their own reason (splitRefusal()).
+  std::string cannot = integratorsWithout("splits");
+  EXPECT_NE(cannot.find("- `vcm` (not with `mode: bpt`): its merging radius"), std::string::npos) << cannot;
+  EXPECT_NE(cannot.find("- `sppm`: each pass shrinks"), std::string::npos) << cannot;
+  EXPECT_EQ(cannot.find("`path`"), std::string::npos) << cannot;
+  EXPECT_NE(integratorsWithout("adaptive").find("- `path` with `engine: wavefront`: engine: wavefront traces"),
+            std::string::npos);
+  EXPECT_NE(integratorNames().find("`path`, `light`, `bdpt`"), std::string::npos);
 }
 
 }  // namespace
