@@ -7,6 +7,15 @@
 // documents its layout) so a low-discrepancy sampler's strata line up from one
 // path to the next.
 //
+// Draw each value in its own statement: f(get1D(), get2D()) takes its
+// arguments in an order C++ leaves unspecified, so which dimensions the lobe
+// and the direction get would depend on the compiler (and the image with
+// them). A BSDF sample takes the direction's two dimensions first, then the
+// lobe's one (the order g++ gave the calls written as one expression):
+//   Vec2 uDir = sampler.get2D();
+//   float uLobe = sampler.get1D();
+//   auto bs = bsdf.sample(wo, uLobe, uDir, mode);
+//
 // The samplers (sampler: {type: ...} in a scene, a configuration, or --sampler):
 //   independent  PCG32 per sample                           (core/sampler.h)
 //   stratified   jittered strata in blocks of strata² samples (core/sampler.h)

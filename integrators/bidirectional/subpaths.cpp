@@ -35,7 +35,9 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     if (added >= maxVertices || !si.material) break;
     BSDF bsdf(si);
     if (dims.stride > 0) sampler.setDimension(dims.first + dims.stride * uint32_t(start + added - 2));
-    auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), mode);
+    Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+    float uLobe = sampler.get1D();
+    auto bs = bsdf.sample(si.wo, uLobe, uDir, mode);
     if (!bs) break;
     beta *= bs->weight;
     // A delta lobe keeps its discrete probability as its density (vertex.h):

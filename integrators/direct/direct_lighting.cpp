@@ -33,7 +33,9 @@ Color DirectLighting::Li(const Ray& ray, const Scene& scene, Sampler& sampler, u
   }
 
   // Strategy 2, the BSDF sample: a direction that may hit an emitter.
-  auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+  Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+  float uLobe = sampler.get1D();
+  auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Radiance);
   if (!bs || (!settings_.mis && !bs->isDelta())) return L;  // without MIS, only delta lobes (no light sample reaches them)
   auto weight = [&](const Light* light, float pdfLi) {
     return bs->isDelta() ? 1.f : powerHeuristic(bs->pdf, lights.pmf(light) * pdfLi);

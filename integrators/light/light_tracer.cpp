@@ -86,7 +86,9 @@ void LightTracer::tracePath(const Scene& scene, Sampler& sampler, std::vector<Sp
       }
     }
     if (segments + 1 > maxDepth) break;  // no longer path can reach the camera
-    auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Importance);
+    Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+    float uLobe = sampler.get1D();
+    auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Importance);
     if (!bs) break;
     beta *= bs->weight;
     if (isBlack(beta)) break;

@@ -67,7 +67,9 @@ Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, int 
   // a gather ray needs a photon of at least one segment beyond it.
   if (!glossy && segmentsLeft < 2) return L;
   for (int g = 0; g < n; ++g) {
-    auto bs = bsdf.sample(x.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+    float uLobe = sampler.get1D();
+    auto bs = bsdf.sample(x.wo, uLobe, uDir, TransportMode::Radiance);
     if (!bs) continue;
     // The other half of the glossy MIS pair: emission the gather ray reaches directly.
     bool misPartner = glossy && !bs->isDelta();
@@ -88,7 +90,9 @@ Color PhotonMapper::gather(const Scene& scene, const SurfaceInteraction& x, int 
     if (y.material && y.material->isDelta()) {
       // Light reaching x through specular surfaces from a diffuse one; light
       // arriving straight from an emitter that way is a caustic (caustic map).
-      auto next = BSDF(y).sample(y.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+      Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+      float uLobe = sampler.get1D();
+      auto next = BSDF(y).sample(y.wo, uLobe, uDir, TransportMode::Radiance);
       if (!next) continue;
       NonSpecularHit beyond = traceToNonSpecular(scene, y.spawnRay(next->wi), sampler, segmentsLeft - 2, rays);
       if (!beyond.si) continue;

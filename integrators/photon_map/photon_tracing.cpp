@@ -25,7 +25,9 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
       hit.segments = depth + 1;
       break;
     }
-    auto bs = BSDF(si).sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Radiance);
+    Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+    float uLobe = sampler.get1D();
+    auto bs = BSDF(si).sample(si.wo, uLobe, uDir, TransportMode::Radiance);
     if (!bs) break;
     hit.beta *= bs->weight;
     ray = si.spawnRay(bs->wi);
@@ -57,7 +59,9 @@ uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t p
           if (!scene.intersect(ray, si) || !si.material) break;
           BSDF bsdf(si);
           if (!bsdf.isDelta()) visit(c, {&si, si.wo, beta, bounces, specularChain && bounces > 0});
-          auto bs = bsdf.sample(si.wo, sampler.get1D(), sampler.get2D(), TransportMode::Importance);
+          Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
+          float uLobe = sampler.get1D();
+          auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Importance);
           if (!bs) break;
           specularChain = specularChain && bs->isDelta();
           float survive = std::min(1.f, maxComponent(bs->weight));
