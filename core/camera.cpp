@@ -30,7 +30,9 @@ std::optional<Vec2> Camera::rasterOf(const Vec3& dir) const {
   float x = glm::dot(dir, right_) / cos, y = glm::dot(dir, up_) / cos;
   Vec2 raster((x / tanHalfX_ + 1) / 2 * float(fullWidth_) - float(offsetX_),
               (1 - y / tanHalfY_) / 2 * float(fullHeight_) - float(offsetY_));
-  if (raster.x < 0 || raster.x >= width_ || raster.y < 0 || raster.y >= height_) return std::nullopt;
+  float m = filter_.margin();
+  if (raster.x < -m || raster.x >= float(width_) + m || raster.y < -m || raster.y >= float(height_) + m)
+    return std::nullopt;
   return raster;
 }
 

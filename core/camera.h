@@ -8,7 +8,13 @@
 // its film: an off-axis window of the same image plane, whose pixels are the
 // full film's pixels. Importance is then normalised over the window (its
 // area A), so each pixel estimates the same value as in the full render.
+// A pixel filter wider than a pixel (core/filter.h) makes each pixel look
+// up to margin() = radius − ½ pixel past the image's edge: the camera sees
+// that margin too (rasterOf, importance and pdfWe are nonzero there, with
+// the same formulas; A stays the image's area), so splats that land in it
+// reach the edge pixels as the camera's filtered samples do.
 #include <optional>
+#include "core/filter.h"
 #include "core/ray.h"
 
 namespace lb {
@@ -33,7 +39,21 @@ class Camera {
   const Vec3& forward() const { return forward_; }
 
   Ray generateRay(Vec2 raster) const;
-  // Raster position of direction `dir` leaving the pinhole, if on the image.
+  // Camera sample u of pixel (x, y): where it looks, and its filter weight
+  // f̂/pdf (core/filter.h). With the one-pixel box: (x, y) + u and weight 1.
+  struct FilmSample {
+    Vec2 raster;
+    float weight;
+  };
+  FilmSample sampleFilm(int x, int y, Vec2 u) const {
+    if (filter_.isPixelBox()) return {Vec2(x, y) + u, 1.f};
+    PixelFilter::Sample s = filter_.sample(u);
+    return {Vec2(float(x) + 0.5f, float(y) + 0.5f) + s.offset, s.weight};
+  }
+  const PixelFilter& filter() const { return filter_; }
+  void setFilter(const PixelFilter& filter) { filter_ = filter; }
+  // Raster position of direction `dir` leaving the pinhole, if on the image
+  // or its filter margin.
   std::optional<Vec2> rasterOf(const Vec3& dir) const;
   float importance(const Vec3& dir) const;  // We(ω), 0 off-image
   void pdfWe(const Vec3& dir, float* pdfPos, float* pdfDir) const;
@@ -50,6 +70,7 @@ class Camera {
   int width_ = 1, height_ = 1;
   int fullWidth_ = 1, fullHeight_ = 1;  // the uncropped film
   int offsetX_ = 0, offsetY_ = 0;       // the window's corner in the uncropped film
+  PixelFilter filter_;
 };
 
 }  // namespace lb

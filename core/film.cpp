@@ -13,6 +13,22 @@ void PassImage::add(int x, int y, const Color& v, uint64_t sampleIndex, Film& fi
   value_[size_t(y) * width_ + x] += glm::dvec3(v);
 }
 
+void PassImage::splat(Vec2 raster, const Color& v, uint64_t sampleIndex, Film& film) {
+  if (!filter_ || filter_->isPixelBox() || !isFinite(v)) {  // (a non-finite value is counted once)
+    addAtRaster(raster, v, sampleIndex, film);
+    return;
+  }
+  // Pixels whose centre x + ½ lies within the radius of raster.x, and in y.
+  float r = filter_->radius();
+  int x0 = std::max(0, int(std::ceil(raster.x - 0.5f - r))), x1 = std::min(width_ - 1, int(std::floor(raster.x - 0.5f + r)));
+  int y0 = std::max(0, int(std::ceil(raster.y - 0.5f - r))), y1 = std::min(height_ - 1, int(std::floor(raster.y - 0.5f + r)));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      float w = filter_->evaluate(raster - Vec2(float(x) + 0.5f, float(y) + 0.5f));
+      if (w != 0) value_[size_t(y) * width_ + x] += glm::dvec3(v) * double(w);
+    }
+}
+
 Film::Film(int width, int height)
     : width_(width), height_(height), sum_(size_t(width) * height, glm::dvec3(0)),
       sumSq_(size_t(width) * height, glm::dvec3(0)), count_(size_t(width) * height, 0),

@@ -13,9 +13,11 @@
 // Determinism: a pixel's samples are added by one thread in sample order, and
 // a pass's splats are added in a fixed order (tile by tile), so the sums do not
 // depend on the thread count.
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <vector>
+#include "core/filter.h"
 #include "core/image.h"
 
 namespace lb {
@@ -35,19 +37,29 @@ class Film;
 // and added afterwards in tile order.
 class PassImage {
  public:
-  PassImage(int width, int height) : width_(width), height_(height), value_(size_t(width) * height, glm::dvec3(0)) {}
+  // `filter`: the camera's (core/filter.h), which splat() uses; it must
+  // outlive the PassImage. None: the one-pixel box.
+  PassImage(int width, int height, const PixelFilter* filter = nullptr)
+      : width_(width), height_(height), value_(size_t(width) * height, glm::dvec3(0)), filter_(filter) {}
   int width() const { return width_; }
   int height() const { return height_; }
   // Adds to pixel (x, y); non-finite values are reported to `film` and dropped.
   void add(int x, int y, const Color& v, uint64_t sampleIndex, Film& film);
+  // Adds to the pixel that contains `raster` (clamped to the image).
   void addAtRaster(Vec2 raster, const Color& v, uint64_t sampleIndex, Film& film) {
-    add(std::min(int(raster.x), width_ - 1), std::min(int(raster.y), height_ - 1), v, sampleIndex, film);
+    add(std::clamp(int(raster.x), 0, width_ - 1), std::clamp(int(raster.y), 0, height_ - 1), v, sampleIndex, film);
   }
+  // A splat at `raster` (light tracing, BDPT's t = 1): each pixel whose
+  // filter reaches it gets f̂(raster − centre)·v (core/filter.h says why this
+  // estimates what the camera's filtered samples do). With the one-pixel box
+  // this is addAtRaster.
+  void splat(Vec2 raster, const Color& v, uint64_t sampleIndex, Film& film);
   const std::vector<glm::dvec3>& values() const { return value_; }
 
  private:
   int width_, height_;
   std::vector<glm::dvec3> value_;
+  const PixelFilter* filter_;
 };
 
 // A splat recorded by a worker, applied later in a fixed order.

@@ -58,14 +58,47 @@ float verticalFov(float fov, const std::string& axis, int width, int height) {
   return float(glm::degrees(2 * std::atan(tanY)));
 }
 
+// film: {filter: {type: gaussian, sigma: 0.5}}: the pixel reconstruction
+// filter (core/filter.h). Defaults as Mitsuba 3's: box ½, tent 1, gaussian
+// σ ½ with radius 4σ, mitchell B = C = ⅓ with radius 2, lanczos 3 lobes.
+PixelFilter readFilter(Params& f) {
+  using Type = PixelFilter::Type;
+  std::string name = f.getChoice("type", "box", PixelFilter::names());
+  Type type = PixelFilter::typeNamed(name);
+  float a = 0, b = 0, fallback = 0.5f;
+  if (type == Type::Tent) fallback = 1;
+  if (type == Type::Gaussian) {
+    a = f.getFloat("sigma", 0.5f, {"standard deviation in pixels", Range::openClosed(0, 4)});
+    fallback = 4 * a;
+  }
+  if (type == Type::Mitchell) {
+    a = f.getFloat("b", 1.f / 3, {"Mitchell-Netravali B", Range::between(-4, 4)});
+    b = f.getFloat("c", 1.f / 3, {"Mitchell-Netravali C", Range::between(-4, 4)});
+    fallback = 2;
+  }
+  if (type == Type::Lanczos) {
+    a = f.getFloat("tau", 3, {"the window's lobes (sinc(x/τ))", Range::openClosed(0, 16)});
+    fallback = a;
+  }
+  float radius = f.getFloat("radius", fallback, {"in pixels", Range::openClosed(0, 16)});
+  f.checkUnused();
+  PixelFilter filter(type, radius, a, b);
+  // A filter must integrate to more than zero to be normalised (a Mitchell
+  // filter with large B or C, say, need not).
+  if (!(filter.integral1D() > 1e-3f * radius)) f.fail("type", "this " + name + " filter integrates to about zero or less; it cannot be normalised");
+  return filter;
+}
+
 void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   int width = 256, height = 256;
+  PixelFilter filter;
   if (auto film = root.getChild("film")) {
     width = film->getInt("width", width);
     height = film->getInt("height", height);
     if (width <= 0) film->fail("width", "must be positive");
     if (height <= 0) film->fail("height", "must be positive");
     checkFilmMemory(*film, width, height);
+    if (auto f = film->getChild("filter")) filter = readFilter(*f);
     film->checkUnused();
   }
   auto cam = root.getChild("camera");
@@ -84,6 +117,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
   checkCoordinates(*cam, "position", pos * ctx.worldScale);
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
+  scene.camera.setFilter(filter);
 }
 
 SceneFile loadFromNode(const YAML::Node& root, const std::string& path, bool deferWarnings = false) {

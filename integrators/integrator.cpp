@@ -7,9 +7,8 @@ namespace lb {
 Color PixelIntegrator::samplePixel(const Scene& scene, Sampler& sampler, int x, int y, uint64_t sample,
                                    uint64_t& rays) const {
   sampler.start(uint64_t(y) * scene.camera.width() + x, sample);
-  Vec2 jitter = sampler.get2D();
-  Ray ray = scene.camera.generateRay(Vec2(x, y) + jitter);
-  return Li(ray, scene, sampler, rays);
+  Camera::FilmSample film = scene.camera.sampleFilm(x, y, sampler.get2D());  // the pixel filter (core/filter.h)
+  return Li(scene.camera.generateRay(film.raster), scene, sampler, rays) * film.weight;
 }
 
 void PixelIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,

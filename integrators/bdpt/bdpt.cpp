@@ -45,23 +45,27 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
         unweighted_.push_back(std::make_unique<Film>(W, H));
       }
   std::vector<PassImage> strategyPass, strategyPassRaw;
-  for (size_t i = 0; i < strategies_.size(); ++i) strategyPass.emplace_back(W, H), strategyPassRaw.emplace_back(W, H);
+  const PixelFilter* filter = &scene.camera.filter();
+  for (size_t i = 0; i < strategies_.size(); ++i)
+    strategyPass.emplace_back(W, H, filter), strategyPassRaw.emplace_back(W, H, filter);
 
   std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
   std::vector<std::vector<StrategySplat>> strategySplats(size_t(tileCount(W, H)));
-  PassImage image(W, H);
+  PassImage image(W, H, filter);
 
   forEachPixel(W, H, prototype, stats, [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
     bidir::PhaseScope phase(bidir::Phase::CameraSubpaths);  // what the scopes within do not claim
     thread_local bidir::SubpathBuffers buffers;
     buffers.fit(settings_.length);
     sampler.start(uint64_t(y) * W + x, pass);
-    Vec2 raster = Vec2(x, y) + sampler.get2D();
+    Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
     Color L(0.f);
     bidir::sampleAllStrategies(
-        scene, {sampler, sampler, sampler, true}, settings_.length, settings_.mis, raster, buffers, rays,
+        scene, {sampler, sampler, sampler, true}, settings_.length, settings_.mis, at.raster, buffers, rays,
         [&](int s, int t, const bidir::Connection& c) {
-          Color weighted = c.L * c.weight;
+          // A t = 1 strategy is splatted through the filter; the others
+          // belong to pixel (x, y) with the camera sample's filter weight.
+          Color weighted = t == 1 ? c.L * c.weight : c.L * c.weight * at.weight;
           if (!isFinite(weighted)) {  // counted and dropped alone, not with the whole pixel
             film.recordNonFinite(x, y, pass);
             return;
@@ -70,20 +74,26 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
           else L += weighted;
           int k = strategies_.empty() ? -1 : strategyIndex(s, t);
           if (k >= 0) {
-            Vec2 at = t == 1 ? c.raster : Vec2(x, y);
-            strategySplats[size_t(tile)].push_back({k, {at, weighted}, {at, c.L}});
+            Vec2 where = t == 1 ? c.raster : Vec2(x, y);
+            strategySplats[size_t(tile)].push_back({k, {where, weighted}, {where, t == 1 ? c.L : c.L * at.weight}});
           }
         });
     image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
   });
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums
-    for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);
+    for (const Splat& s : tileSplats) image.splat(s.raster, s.value, pass, film);
   film.addPass(image);
   if (!strategies_.empty()) {
     for (const auto& tileSplats : strategySplats)
       for (const StrategySplat& s : tileSplats) {
-        strategyPass[size_t(s.strategy)].addAtRaster(s.weighted.raster, s.weighted.value, pass, *weighted_[size_t(s.strategy)]);
-        strategyPassRaw[size_t(s.strategy)].addAtRaster(s.unweighted.raster, s.unweighted.value, pass, *unweighted_[size_t(s.strategy)]);
+        size_t k = size_t(s.strategy);
+        if (strategies_[k].second == 1) {  // t = 1: splatted
+          strategyPass[k].splat(s.weighted.raster, s.weighted.value, pass, *weighted_[k]);
+          strategyPassRaw[k].splat(s.unweighted.raster, s.unweighted.value, pass, *unweighted_[k]);
+        } else {
+          strategyPass[k].addAtRaster(s.weighted.raster, s.weighted.value, pass, *weighted_[k]);
+          strategyPassRaw[k].addAtRaster(s.unweighted.raster, s.unweighted.value, pass, *unweighted_[k]);
+        }
       }
     for (size_t i = 0; i < strategies_.size(); ++i) weighted_[i]->addPass(strategyPass[i]), unweighted_[i]->addPass(strategyPassRaw[i]);
   }

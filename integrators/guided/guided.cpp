@@ -98,9 +98,10 @@ void GuidedPathTracer::pass(const Scene& scene, Film& film, const Sampler& proto
   forEachPixel(film.width(), film.height(), prototype, stats,
                [&](int tile, int x, int y, Sampler& sampler, uint64_t& rays) {
                  sampler.start(uint64_t(y) * uint64_t(scene.camera.width()) + uint64_t(x), index);
-                 Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
+                 Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
                  auto* list = learn ? &records[size_t(tile)] : nullptr;
-                 film.addSample(x, y, index, trace(ray, scene, sampler, localGuide(), list, rays));
+                 Color L = trace(scene.camera.generateRay(at.raster), scene, sampler, localGuide(), list, rays);
+                 film.addSample(x, y, index, L * at.weight);
                });
   if (learn) method_->learn(records);
 }

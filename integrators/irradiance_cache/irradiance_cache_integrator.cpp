@@ -111,8 +111,8 @@ void IrradianceCacheIntegrator::runPass(const Film* film, int stride, uint64_t s
     sampler.start(pixel, sampleIndex);
     // Jittered in the prepass too: exact pixel centres fall on the seams and
     // diagonals of axis-aligned scenes, where a record belongs to no single surface.
-    Vec2 jitter = sampler.get2D();
-    Color L = Li(cam.generateRay(Vec2(x, y) + jitter), sampler, hashValues(seed_, pixel, sampleIndex), tiles[tile], rays);
+    Camera::FilmSample at = cam.sampleFilm(x, y, sampler.get2D());
+    Color L = Li(cam.generateRay(at.raster), sampler, hashValues(seed_, pixel, sampleIndex), tiles[tile], rays) * at.weight;
     if (result) result(x, y, L);
   });
   for (const LocalRecords& t : tiles) {
@@ -136,12 +136,12 @@ std::optional<Color> IrradianceCacheIntegrator::replaySample(const Scene& scene,
   auto sampler = prototype.clone();
   uint64_t pixel = uint64_t(y) * scene.camera.width() + x, rays = 0;
   sampler->start(pixel, sample);
-  Vec2 jitter = sampler->get2D();
+  Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler->get2D());
   // The replay sees the cache as it is now (after a render: every record) and
   // none of the records its tile had made earlier in the pass, so it
   // reproduces the rendered sample only where the cache already covered it.
   LocalRecords local;
-  return Li(scene.camera.generateRay(Vec2(x, y) + jitter), *sampler, hashValues(seed_, pixel, sample), local, rays);
+  return Li(scene.camera.generateRay(at.raster), *sampler, hashValues(seed_, pixel, sample), local, rays) * at.weight;
 }
 
 Color IrradianceCacheIntegrator::Li(const Ray& cameraRay, Sampler& sampler, uint64_t key, LocalRecords& local,

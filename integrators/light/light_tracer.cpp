@@ -33,9 +33,9 @@ void LightTracer::renderPass(const Scene& scene, Film& film, const Sampler& prot
       }
     stats.rays += rays;
   });
-  PassImage image(film.width(), film.height());
+  PassImage image(film.width(), film.height(), &scene.camera.filter());
   for (const auto& chunk : splats)
-    for (const Splat& s : chunk) image.addAtRaster(s.raster, s.value, pass, film);
+    for (const Splat& s : chunk) image.splat(s.raster, s.value, pass, film);
   film.addPass(image);
 }
 

@@ -5,8 +5,12 @@
 namespace lb::mlt {
 
 namespace {
+// The image, and the margin a pixel filter wider than a pixel reaches past
+// its edge (core/filter.h), uniformly: Mlt::renderPass scales by its area.
 Vec2 rasterFrom(const Scene& scene, Vec2 u) {
-  return {u.x * float(scene.camera.width()), u.y * float(scene.camera.height())};
+  float m = scene.camera.filter().margin();
+  if (m == 0) return {u.x * float(scene.camera.width()), u.y * float(scene.camera.height())};
+  return {u.x * (float(scene.camera.width()) + 2 * m) - m, u.y * (float(scene.camera.height()) + 2 * m) - m};
 }
 }  // namespace
 

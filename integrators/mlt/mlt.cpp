@@ -112,14 +112,17 @@ void Mlt::preprocess(const Scene& scene, const Sampler& prototype) {
   }
 }
 
-void Mlt::renderPass(const Scene&, Film& film, const Sampler&, uint64_t pass, PassStats& stats) {
+void Mlt::renderPass(const Scene& scene, Film& film, const Sampler&, uint64_t pass, PassStats& stats) {
   const int W = film.width(), H = film.height();
   const uint64_t pixels = uint64_t(W) * uint64_t(H), C = chains_.size();
   film.markPassesCorrelated();
   std::vector<std::vector<Splat>> splats(C);
   std::vector<std::vector<Vec2>> nonFinite(C);
-  // One mutation per pixel in all: I_j = P · b / N · Σ splats with N = P.
-  const double scale = bootstrap_.b;
+  // One mutation per pixel in all: I_j = P · b / N · Σ splats with N = P,
+  // where P is the area (in pixels) the primary samples map to: the image and
+  // the filter's margin around it (integrands.cpp, rasterFrom).
+  const double m = scene.camera.filter().margin();
+  const double scale = m == 0 ? bootstrap_.b : bootstrap_.b * (W + 2 * m) * (H + 2 * m) / double(pixels);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(0, C, 1), [&](const tbb::blocked_range<uint64_t>& r) {
     uint64_t rays = 0;
     for (uint64_t c = r.begin(); c != r.end(); ++c) {
@@ -130,9 +133,9 @@ void Mlt::renderPass(const Scene&, Film& film, const Sampler&, uint64_t pass, Pa
   });
   stats.rays += unreportedRays_;
   unreportedRays_ = 0;
-  PassImage image(W, H);
+  PassImage image(W, H, &scene.camera.filter());
   for (uint64_t c = 0; c < C; ++c) {  // chain order: the same sums whatever the thread count
-    for (const Splat& s : splats[c]) image.addAtRaster(s.raster, s.value, pass, film);
+    for (const Splat& s : splats[c]) image.splat(s.raster, s.value, pass, film);
     for (Vec2 at : nonFinite[c]) {
       int x = std::isfinite(at.x) ? std::clamp(int(at.x), 0, W - 1) : 0;
       int y = std::isfinite(at.y) ? std::clamp(int(at.y), 0, H - 1) : 0;

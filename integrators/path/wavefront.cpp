@@ -29,7 +29,7 @@ uint64_t WavefrontEngine::renderBatch(Workspace& w, const Scene& scene, Film& fi
   const Camera& camera = scene.camera;
   Sampler& sampler = *w.sampler;
   // Sized once per workspace; later batches reuse the storage.
-  w.paths.resize(n), w.L.assign(n, Color(0.f)), w.pixel.resize(n), w.rayhits.resize(n);
+  w.paths.resize(n), w.L.assign(n, Color(0.f)), w.filterWeight.resize(n), w.pixel.resize(n), w.rayhits.resize(n);
   w.shadows.resize(n * size_t(shadowsPerPath)), w.shadowOwner.resize(n * size_t(shadowsPerPath));
   w.shadowRays.resize(n * size_t(shadowsPerPath));
   w.active.clear();
@@ -43,10 +43,11 @@ uint64_t WavefrontEngine::renderBatch(Workspace& w, const Scene& scene, Film& fi
     int x = x0 + int(i % size_t(x1 - x0)), y = y0 + int(i / size_t(x1 - x0));
     w.pixel[i] = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
     sampler.start(w.pixel[i], pass);
-    Vec2 jitter = sampler.get2D();
+    Camera::FilmSample at = camera.sampleFilm(x, y, sampler.get2D());
+    w.filterWeight[i] = at.weight;
     PathState& s = w.paths[i];
     s = PathState();
-    s.ray = camera.generateRay(Vec2(x, y) + jitter);
+    s.ray = camera.generateRay(at.raster);
     s.prevPoint = s.ray.o;
     w.active.push_back(int(i));
   }
@@ -89,7 +90,7 @@ uint64_t WavefrontEngine::renderBatch(Workspace& w, const Scene& scene, Film& fi
   }
 
   for (size_t i = 0; i < n; ++i)
-    film.addSample(x0 + int(i % size_t(x1 - x0)), y0 + int(i / size_t(x1 - x0)), pass, w.L[i]);
+    film.addSample(x0 + int(i % size_t(x1 - x0)), y0 + int(i / size_t(x1 - x0)), pass, w.L[i] * w.filterWeight[i]);
   return rays;
 }
 

@@ -50,6 +50,7 @@ class WavefrontEngine {
     std::unique_ptr<Sampler> sampler;
     std::vector<PathState> paths;
     std::vector<Color> L;
+    std::vector<float> filterWeight;  // each path's pixel-filter weight (core/filter.h)
     std::vector<uint64_t> pixel;
     std::vector<int> active, nextActive;
     std::vector<RTCRayHit> rayhits;

@@ -56,8 +56,9 @@ void Sppm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   PassImage direct(W, H);
   forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
     sampler.start(uint64_t(y) * W + x, pass);
-    Ray ray = scene.camera.generateRay(Vec2(x, y) + sampler.get2D());
-    NonSpecularHit hit = traceToNonSpecular(scene, ray, sampler, settings_.maxDepth, rays);
+    Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
+    NonSpecularHit hit = traceToNonSpecular(scene, scene.camera.generateRay(at.raster), sampler, settings_.maxDepth, rays);
+    hit.emitted *= at.weight, hit.beta *= at.weight;  // the pixel filter's weight (core/filter.h)
     Color L = hit.emitted;
     if (hit.si && hit.segments < settings_.maxDepth) {  // the visible point: direct light by NEE here
       if (auto d = sampleDirectLight(scene, *hit.si, BSDF(*hit.si), sampler, rays)) L += hit.beta * d->contribution;

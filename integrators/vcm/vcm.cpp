@@ -128,7 +128,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
 
   // 3. Camera subpaths: connections to the pixel's own light subpath, merges
   //    with every light vertex within r.
-  PassImage image(W, H);
+  PassImage image(W, H, &scene.camera.filter());
   forEachPixel(W, H, prototype, stats, [&](int, int x, int y, Sampler& sampler, uint64_t& rays) {
     bidir::PhaseScope phase(bidir::Phase::CameraSubpaths);
     thread_local std::vector<Vertex> camera;
@@ -136,8 +136,8 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     camera.resize(cameraCapacity);
     size_t pixel = size_t(y) * W + x;
     sampler.start(pixel, pass);
-    Vec2 raster = Vec2(x, y) + sampler.get2D();
-    int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, raster, camera, rays);
+    Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
+    int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, at.raster, camera, rays);
     bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::SubpathSide::Camera);
     const LightSubpathRef& own = lightSubpaths_[pixel];
     bidir::Subpath light(tileVertices_[own.tile].data() + own.first, own.count);
@@ -214,10 +214,10 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
         if (settings_.merging() && t <= maxSeg && mergeable(camera[size_t(t - 1)])) mergeAt(t, true);
       }
     }
-    image.add(x, y, L, pass, film);  // this tile owns pixel (x, y)
+    image.add(x, y, L * at.weight, pass, film);  // this tile owns pixel (x, y); the filter's weight (core/filter.h)
   });
-  for (const auto& tileSplats : splats)  // fixed order: deterministic sums
-    for (const Splat& s : tileSplats) image.addAtRaster(s.raster, s.value, pass, film);
+  for (const auto& tileSplats : splats)  // fixed order: deterministic sums; t = 1 through the filter
+    for (const Splat& s : tileSplats) image.splat(s.raster, s.value, pass, film);
   film.addPass(image);
 }
 
