@@ -147,6 +147,38 @@ void Translator::readSampler(pugi::xml_node n) {
   root_["sampler"] = s;
 }
 
+// <rfilter> as Mitsuba 0.6 and 3 define it (core/filter.h has the profiles):
+// box (radius ½), tent (radius 1), gaussian (stddev ½, radius 4·stddev),
+// mitchell (B, C ⅓, radius 2), catmullrom (Mitchell with B 0, C ½), lanczos
+// (lobes 3, radius = lobes); a 0.6 file may give box's and tent's radius.
+YAML::Node Translator::readFilter(pugi::xml_node o) {
+  std::string type = xml_.attr(o, "type");
+  Props p(xml_, o);
+  YAML::Node f(YAML::NodeType::Map);
+  if (type == "box" || type == "tent") {
+    f["type"] = type;
+    f["radius"] = p.getFloat("radius", type == "box" ? 0.5 : 1.0);
+  } else if (type == "gaussian") {
+    f["type"] = "gaussian";
+    f["sigma"] = p.getFloat("stddev", 0.5);
+  } else if (type == "mitchell" || type == "catmullrom") {
+    f["type"] = "mitchell";
+    f["b"] = type == "mitchell" ? p.getFloat("B", 1.0 / 3) : 0.0;
+    f["c"] = type == "mitchell" ? p.getFloat("C", 1.0 / 3) : 0.5;
+  } else if (type == "lanczos") {
+    double lobes = double(p.getInt("lobes", 3));
+    f["type"] = "lanczos";
+    f["tau"] = lobes;
+    f["radius"] = lobes;
+  } else {
+    xml_.warn(o, "reconstruction filter '" + type + "' not supported; a box filter is used (each sample counts in its own pixel)");
+    p.takeAll();
+    f["type"] = "box";
+  }
+  p.finish();
+  return f;
+}
+
 void Translator::readFilm(pugi::xml_node n) {
   std::string type = xml_.attr(n, "type");
   Props p(xml_, n);
@@ -167,11 +199,14 @@ void Translator::readFilm(pugi::xml_node n) {
       continue;
     }
     filterGiven = true;
-    if (xml_.attr(o, "type") != "box")
-      xml_.warn(o, "reconstruction filter not supported; a box filter is used (each sample counts in its own pixel)");
+    film["filter"] = readFilter(o);
   }
-  if (!filterGiven)
-    xml_.warn(n, "no <rfilter>: Mitsuba would use a Gaussian; a box filter is used (each sample counts in its own pixel)");
+  if (!filterGiven) {  // Mitsuba's default (0.6 and 3): a Gaussian of σ ½ pixel, radius 4σ
+    YAML::Node gaussian(YAML::NodeType::Map);
+    gaussian["type"] = "gaussian";
+    gaussian["sigma"] = 0.5;
+    film["filter"] = gaussian;
+  }
   p.finish();
   origin("film", n);
   root_["film"] = film;
