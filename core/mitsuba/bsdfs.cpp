@@ -77,8 +77,19 @@ YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   if (p.has("k")) m["k"] = flowVec(p.getColor("k", glm::dvec3(1.0)));
   if (m["eta"] && !m["k"]) m["k"] = 0.0;
   if (p.has("ext_eta")) {
-    p.getText("ext_eta", "");
-    xml.warn(n, "ext_eta is not supported; the exterior is taken as vacuum");
+    // The exterior's index: Fresnel sees eta / ext_eta and k / ext_eta
+    // (Mitsuba 0.6's conductor divides them so). A perfect mirror has none.
+    double exterior = iorProperty(xml, p, n, "ext_eta", 1.0);
+    if (!(exterior > 0)) xml.fail(n, "ext_eta", "an index of refraction must be positive");
+    if (m["eta"]) {
+      auto divided = [&](const char* key) {
+        YAML::Node v = m[key];
+        glm::dvec3 c = v.IsSequence() ? glm::dvec3(v[0].as<double>(), v[1].as<double>(), v[2].as<double>())
+                                      : glm::dvec3(v.as<double>());
+        m[key] = flowVec(c / exterior);
+      };
+      divided("eta"), divided("k");
+    }
   }
   m["tint"] = flowVec(p.getColor("specular_reflectance", glm::dvec3(1.0)));
   if (rough) microfacet(xml, p, n, m);

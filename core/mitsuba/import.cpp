@@ -163,12 +163,15 @@ MitsubaImport Translator::run() {
     if (name.empty() || !d.attribute("value")) xml_.fail(d, "name", "a <default> needs a name and a value");
     xml_.addDefault(name, d.attribute("value").value());
   }
-  // Textures are read where a BSDF refers to them (bsdfs.cpp).
+  // Textures are read where a BSDF refers to them (bsdfs.cpp). The scene's
+  // own BSDFs are read first: a shape may refer to one defined further down,
+  // as Mitsuba allows.
   for (pugi::xml_node t : scene.children("texture")) registerId(t);
+  for (pugi::xml_node b : scene.children("bsdf")) readBsdf(b);
   for (pugi::xml_node c : scene.children()) {
     if (!isElement(c)) continue;
     std::string tag = c.name();
-    if (tag == "default" || tag == "texture") continue;  // read above, or where referred to
+    if (tag == "default" || tag == "texture" || tag == "bsdf") continue;  // read above, or where referred to
     if (tag == "integrator") readIntegrator(c);
     else if (tag == "sensor") readSensor(c);
     else if (tag == "bsdf") readBsdf(c);
@@ -201,10 +204,40 @@ void Translator::registerId(pugi::xml_node n) {
   if (!fresh) xml_.fail(n, "id", "'" + id + "' is used twice (first on line " + std::to_string(xml_.lineOf(it->second)) + ")");
 }
 
+namespace {
+// BSDFs that wrap another and change what lightbench does not model yet: the
+// shading normal (bumpmap, normalmap) or the surface's opacity (mask).
+bool isWrapper(const std::string& type) { return type == "bumpmap" || type == "normalmap" || type == "mask"; }
+}  // namespace
+
+// A wrapper (isWrapper) is said once and its nested BSDF used in its place:
+// the wrapper's id and the nested one's both name that material.
+pugi::xml_node Translator::unwrapBsdf(pugi::xml_node n, std::vector<std::string>& ids) {
+  while (isWrapper(xml_.attr(n, "type"))) {
+    std::string type = xml_.attr(n, "type");
+    Props p(xml_, n);
+    p.takeAll();  // the map and its strength: said dropped below
+    pugi::xml_node nested;
+    for (pugi::xml_node o : p.objects)
+      if (std::string(o.name()) == "bsdf" && !nested) nested = o;
+    p.finish();
+    if (!nested) xml_.fail(n, "", "a " + type + " BSDF needs a nested <bsdf>");
+    xml_.warn(n, type == "mask" ? "opacity masks are not supported yet; the surface is opaque (its nested BSDF is used)"
+                                : type + " is not supported yet; its nested BSDF is used with the surface's own shading normal");
+    registerId(nested);
+    if (nested.attribute("id")) ids.push_back(xml_.attr(nested, "id"));
+    n = nested;
+  }
+  return n;
+}
+
 // A named or inline BSDF becomes a material; returns its name.
 std::string Translator::readBsdf(pugi::xml_node n) {
   registerId(n);
   std::string id = n.attribute("id") ? xml_.attr(n, "id") : "";
+  std::vector<std::string> aliases;  // ids of BSDFs nested in wrappers: the same material
+  n = unwrapBsdf(n, aliases);
+  if (id.empty() && !aliases.empty()) id = aliases.front();  // a wrapper without an id: named as what it wraps
   std::string name = id.empty() || id == "none" || materialNames_.count(id) ? "bsdf@L" + std::to_string(xml_.lineOf(n)) : id;
   materialNames_.insert(name);
   bool twoSided = xml_.attr(n, "type") == "twosided";
@@ -219,11 +252,12 @@ std::string Translator::readBsdf(pugi::xml_node n) {
     p.finish();
     if (nested.empty()) xml_.fail(n, "", "a twosided BSDF needs a nested <bsdf>");
     if (nested.size() > 1) xml_.warn(nested[1], "a twosided BSDF's back-side BSDF is not supported; the front one is used on both sides");
-    inner = nested[0];
+    inner = unwrapBsdf(nested[0], aliases);
   }
   materials_[name] = translateBsdf(xml_, inner, twoSided, ids_);
   origin("materials." + name, inner);
   if (!id.empty()) bsdfMaterial_[id] = name;
+  for (const std::string& alias : aliases) bsdfMaterial_[alias] = name;
   return name;
 }
 
@@ -288,7 +322,7 @@ void Translator::readShape(pugi::xml_node n) {
       std::string id = xml_.attr(o, "id");
       auto it = bsdfMaterial_.find(id);
       if (it == bsdfMaterial_.end())
-        xml_.fail(o, "id", ids_.count(id) ? "'" + id + "' is not a BSDF" : "no BSDF with id '" + id + "' before this line");
+        xml_.fail(o, "id", ids_.count(id) ? "'" + id + "' is not a BSDF" : "no BSDF with id '" + id + "' in the scene");
       material = it->second;
     } else if (tag == "bsdf") {
       material = readBsdf(o);

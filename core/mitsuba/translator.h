@@ -27,6 +27,7 @@ class Translator {
   void readSensor(pugi::xml_node n);
   void readSampler(pugi::xml_node n);
   void readFilm(pugi::xml_node n);
+  pugi::xml_node unwrapBsdf(pugi::xml_node n, std::vector<std::string>& ids);
   YAML::Node readFilter(pugi::xml_node rfilter);
   std::string readBsdf(pugi::xml_node n);
   void readShape(pugi::xml_node n);
