@@ -22,9 +22,14 @@ void PassImage::splat(Vec2 raster, const Color& v, uint64_t sampleIndex, Film& f
   float r = filter_->radius();
   int x0 = std::max(0, int(std::ceil(raster.x - 0.5f - r))), x1 = std::min(width_ - 1, int(std::floor(raster.x - 0.5f + r)));
   int y0 = std::max(0, int(std::ceil(raster.y - 0.5f - r))), y1 = std::min(height_ - 1, int(std::floor(raster.y - 0.5f + r)));
+  // The filter is separable: each column's and row's factor once (at most
+  // 2·MaxRadius + 1 of each).
+  float wx[2 * PixelFilter::MaxRadius + 1], wy[2 * PixelFilter::MaxRadius + 1];
+  for (int x = x0; x <= x1; ++x) wx[x - x0] = filter_->normalised1D(raster.x - (float(x) + 0.5f));
+  for (int y = y0; y <= y1; ++y) wy[y - y0] = filter_->normalised1D(raster.y - (float(y) + 0.5f));
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x) {
-      float w = filter_->evaluate(raster - Vec2(float(x) + 0.5f, float(y) + 0.5f));
+      float w = wx[x - x0] * wy[y - y0];
       if (w != 0) value_[size_t(y) * width_ + x] += glm::dvec3(v) * double(w);
     }
 }

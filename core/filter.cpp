@@ -1,6 +1,7 @@
 #include "core/filter.h"
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace lb {
 
@@ -29,6 +30,7 @@ PixelFilter::Type PixelFilter::typeNamed(const std::string& name) {
 }
 
 PixelFilter::PixelFilter(Type type, float radius, float a, float b) : type_(type), radius_(radius), a_(a), b_(b) {
+  if (!(radius > 0 && radius <= MaxRadius)) throw std::invalid_argument("pixel filter radius outside (0, 16]");
   auto f = [&](double x) { return double(evaluate1D(float(x))); };
   integral1_ = float(simpson(f, -radius_, radius_, 4096));
   if (type_ == Type::Box || type_ == Type::Tent) return;  // sampled exactly

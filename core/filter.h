@@ -33,6 +33,7 @@ namespace lb {
 class PixelFilter {
  public:
   enum class Type { Box, Tent, Gaussian, Mitchell, Lanczos };
+  static constexpr int MaxRadius = 16;  // pixels; a radius outside (0, MaxRadius] throws std::invalid_argument
   PixelFilter() = default;  // the one-pixel box
   // `a`, `b`: gaussian σ; mitchell B, C; lanczos τ (b unused). The caller
   // checks the ranges (scene_loader.cpp states them).
@@ -46,8 +47,10 @@ class PixelFilter {
   // How far past the image's edge (in pixels) a filtered pixel looks: r − ½.
   float margin() const { return radius_ > 0.5f ? radius_ - 0.5f : 0.f; }
 
-  // f̂ at an offset from a pixel's centre (0 outside the radius).
-  float evaluate(Vec2 offset) const { return evaluate1D(offset.x) * evaluate1D(offset.y) / (integral1_ * integral1_); }
+  // f̂ at an offset from a pixel's centre (0 outside the radius), and its
+  // one-dimensional factor f₁ / ∫f₁ (f̂ is the product of two).
+  float evaluate(Vec2 offset) const { return normalised1D(offset.x) * normalised1D(offset.y); }
+  float normalised1D(float x) const { return evaluate1D(x) / integral1_; }
   // The unnormalised f₁, and ∫ f₁.
   float evaluate1D(float x) const;
   float integral1D() const { return integral1_; }

@@ -80,7 +80,7 @@ PixelFilter readFilter(Params& f) {
     a = f.getFloat("tau", 3, {"the window's lobes (sinc(x/τ))", Range::openClosed(0, 16)});
     fallback = a;
   }
-  float radius = f.getFloat("radius", fallback, {"in pixels", Range::openClosed(0, 16)});
+  float radius = f.getFloat("radius", fallback, {"in pixels", Range::openClosed(0, PixelFilter::MaxRadius)});
   f.checkUnused();
   PixelFilter filter(type, radius, a, b);
   // A filter must integrate to more than zero to be normalised (a Mitchell
