@@ -52,6 +52,9 @@ class Camera {
   }
   const PixelFilter& filter() const { return filter_; }
   void setFilter(const PixelFilter& filter) { filter_ = filter; }
+  // Image right becomes −cross(forward, up): a left-handed camera space, as
+  // pbrt's (core/pbrt/import.h). The same rays, mirrored left to right.
+  void mirrorImage() { right_ = -right_; }
   // Raster position of direction `dir` leaving the pinhole, if on the image
   // or its filter margin.
   std::optional<Vec2> rasterOf(const Vec3& dir) const;

@@ -110,6 +110,19 @@ std::vector<float> Params::getFloatList(const std::string& key, size_t count) {
   return v;
 }
 
+std::vector<float> Params::getFloatSequence(const std::string& key, size_t multipleOf) {
+  if (!has(key)) return {};
+  YAML::Node n = lookup(key);
+  if (!n.IsSequence() || n.size() == 0 || n.size() % multipleOf != 0)
+    fail(key, "expected a list of numbers, " + std::to_string(multipleOf) + " per item, got " +
+                  (n.IsSequence() ? "a list of " + std::to_string(n.size()) : shapeOf(n)));
+  std::vector<float> v;
+  v.reserve(n.size());
+  for (size_t i = 0; i < n.size(); ++i) v.push_back(toFloat(n[i], key));
+  resolved_[key] = n;
+  return v;
+}
+
 namespace {
 std::string number(double v) {
   char buf[32];

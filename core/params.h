@@ -74,6 +74,9 @@ class Params {
   Vec3 requireVec3(const std::string& key);
   // Exactly `count` finite numbers.
   std::vector<float> getFloatList(const std::string& key, size_t count);
+  // Any positive multiple of `multipleOf` finite numbers (inline mesh data);
+  // empty if the key is absent.
+  std::vector<float> getFloatSequence(const std::string& key, size_t multipleOf);
   // Colours also accept a single number (grey).
   Color getColor(const std::string& key, Color fallback);
   Color requireColor(const std::string& key);

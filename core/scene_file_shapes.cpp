@@ -108,8 +108,37 @@ TriangleMesh boxMesh() {
   return m;
 }
 
+// `type: triangles`: a mesh written in the scene itself (pbrt's trianglemesh
+// imports as one): positions (3 numbers each), indices (3 per triangle) and,
+// optionally, normals (one per vertex) and uvs (2 numbers per vertex).
+TriangleMesh inlineMesh(Params& p) {
+  TriangleMesh m;
+  std::vector<float> pos = p.getFloatSequence("positions", 3);
+  if (pos.empty()) p.fail("positions", "is required (3 numbers per vertex)");
+  size_t n = pos.size() / 3;
+  for (size_t i = 0; i < n; ++i) m.positions.emplace_back(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+  std::vector<float> idx = p.getFloatSequence("indices", 3);
+  if (idx.empty()) p.fail("indices", "is required (3 vertex indices per triangle)");
+  for (float v : idx)
+    if (!(v >= 0 && v == std::floor(v) && size_t(v) < n))
+      p.fail("indices", "each must be a whole number in [0, " + std::to_string(n - 1) + "] (a vertex of positions)");
+  for (size_t t = 0; t < idx.size(); t += 3) m.triangles.emplace_back(unsigned(idx[t]), unsigned(idx[t + 1]), unsigned(idx[t + 2]));
+  std::vector<float> nrm = p.getFloatSequence("normals", 3);
+  if (!nrm.empty() && nrm.size() != pos.size()) p.fail("normals", "needs one normal (3 numbers) per vertex of positions");
+  for (size_t i = 0; i < nrm.size() / 3; ++i) {
+    Vec3 v(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
+    float size = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    if (!(size > 0)) p.fail("normals", "normal " + std::to_string(i) + " is zero");
+    m.normals.push_back(glm::normalize(v / size));
+  }
+  std::vector<float> uv = p.getFloatSequence("uvs", 2);
+  if (!uv.empty() && uv.size() / 2 != n) p.fail("uvs", "needs one uv (2 numbers) per vertex of positions");
+  for (size_t i = 0; i < uv.size() / 2; ++i) m.uvs.emplace_back(uv[2 * i], uv[2 * i + 1]);
+  return m;
+}
+
 void readShape(Params& p, Scene& scene, LoadContext& ctx) {
-  std::string type = p.getChoice("type", "", {"mesh", "sphere", "rectangle", "box", "disk"});
+  std::string type = p.getChoice("type", "", {"mesh", "triangles", "sphere", "rectangle", "box", "disk"});
   // A material by name ("none": an absorber), else an error at `key` of `at`.
   auto materialNamed = [&](Params& at, const std::string& key, const std::string& name) {
     if (name == "none") return -1;
@@ -188,6 +217,9 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
           p.fail("materials", "internal: " + std::to_string(triangleMaterials.size()) + " group entries for " +
                                   std::to_string(mesh.triangles.size()) + " triangles");
       }
+    } else if (type == "triangles") {
+      mesh = inlineMesh(p);
+      dropped = transformMesh(mesh, toWorld);
     } else {
       if (type == "disk") {
         int segments = p.getInt("segments", 256);
@@ -206,7 +238,7 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
     // An all-degenerate shape is an error (one line), not a warning and an error.
     if (mesh.triangles.empty()) {
       if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
-      p.fail(type == "mesh" ? "file" : "transform", "shape has zero area (every triangle is degenerate)");
+      p.fail(type == "mesh" ? "file" : type == "triangles" ? "positions" : "transform", "shape has zero area (every triangle is degenerate)");
     }
     if (dropped) {
       ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() + ": skipped " +

@@ -1,7 +1,7 @@
 // The YAML scene reader (scene_loader.h): the file, its overrides, the film
 // and the camera here; shapes and lights in scene_file_shapes.cpp and
 // scene_file_lights.cpp, which share scene_file_parts.h. Imported Mitsuba
-// files go through core/mitsuba/ to the same description.
+// and pbrt-v4 files go through core/mitsuba/ and core/pbrt/ to the same description.
 #include "core/scene_loader.h"
 #include "core/scene_file_parts.h"
 #include "core/memory.h"
@@ -13,7 +13,7 @@
 #include <map>
 #include "core/bsdfs/material_factory.h"
 #include "core/image.h"
-#include "core/mitsuba/import.h"
+#include "core/scene_import.h"
 
 namespace lb {
 
@@ -107,6 +107,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   Vec3 up = cam->getVec3("up", Vec3(0, 1, 0));
   float fov = cam->getFloat("fov", 40);
   std::string axis = cam->getChoice("fov_axis", "y", {"y", "x", "diagonal", "smaller", "larger"});
+  std::string handedness = cam->getChoice("handedness", "right", {"right", "left"});
   cam->checkUnused();
   if (!(fov > 0 && fov < 180)) cam->fail("fov", "must be in (0, 180) degrees");
   fov = verticalFov(fov, axis, width, height);
@@ -117,6 +118,7 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   if (glm::length(glm::cross(target - pos, up)) == 0) cam->fail("up", "must not be parallel to the view direction");
   checkCoordinates(*cam, "position", pos * ctx.worldScale);
   scene.camera = Camera(pos * ctx.worldScale, target * ctx.worldScale, up, fov, width, height);
+  if (handedness == "left") scene.camera.mirrorImage();
   scene.camera.setFilter(filter);
 }
 
@@ -228,7 +230,7 @@ void applyOverrides(YAML::Node& root, const YAML::Node& overrides) {
 // error under --strict), and errors the YAML loader finds in the translation re-thrown
 // at the XML element they came from.
 SceneFile loadImported(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options) {
-  MitsubaImport imp = importMitsubaXml(path);
+  ImportedScene imp = importScene(path);
   if (options.strict && !imp.warnings.empty()) {
     const ImportWarning& w = imp.warnings.front();
     throw ConfigError(path, w.line, w.element, w.message + " (--strict; " + std::to_string(imp.warnings.size()) +
@@ -285,7 +287,7 @@ YAML::Node withSharedIntegratorKeys(const SceneFile& scene, const YAML::Node& pa
 }
 
 SceneFile loadScene(const std::string& path, const YAML::Node& overrides, const SceneLoadOptions& options) {
-  if (isMitsubaXmlPath(path)) return loadImported(path, overrides, options);
+  if (isImportedScenePath(path)) return loadImported(path, overrides, options);
   YAML::Node root = loadYamlFile(path);
   YAML::Node description = YAML::Clone(root);
   applyOverrides(root, overrides);
@@ -300,7 +302,7 @@ void printSceneWarnings(SceneFile& scene) {
 }
 
 YAML::Node loadSceneDescription(const std::string& path) {
-  return isMitsubaXmlPath(path) ? importMitsubaXml(path).scene : loadYamlFile(path);
+  return isImportedScenePath(path) ? importScene(path).scene : loadYamlFile(path);
 }
 
 SceneFile loadSceneFromString(const std::string& yaml, const std::string& virtualPath) {

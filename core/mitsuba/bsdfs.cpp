@@ -1,4 +1,5 @@
 #include "core/mitsuba/bsdfs.h"
+#include "core/bsdfs/named_conductors.h"
 #include "core/mitsuba/translator.h"
 #include <cmath>
 #include <cstdlib>
@@ -18,20 +19,6 @@ const std::map<std::string, double>& iorTable() {
       {"bromine", 1.661},       {"water ice", 1.31},         {"fused quartz", 1.458},    {"pyrex", 1.470},
       {"acrylic glass", 1.49},  {"polypropylene", 1.49},     {"bk7", 1.5046},            {"sodium chloride", 1.544},
       {"amber", 1.55},          {"pet", 1.5750},             {"diamond", 2.419}};
-  return table;
-}
-
-// RGB fits of a few of Mitsuba's named conductors (eta, k at about 650, 550
-// and 450 nm), as its scenes and Tungsten's write them.
-struct ComplexIor {
-  glm::dvec3 eta, k;
-};
-const std::map<std::string, ComplexIor>& conductorTable() {
-  static const std::map<std::string, ComplexIor> table = {
-      {"Au", {{0.143119, 0.374957, 1.44248}, {3.98316, 2.38572, 1.60322}}},
-      {"Ag", {{0.155265, 0.116723, 0.138342}, {4.82835, 3.12225, 2.14696}}},
-      {"Cu", {{0.200438, 0.924033, 1.10221}, {3.91295, 2.45285, 2.14219}}},
-      {"Al", {{1.65746, 0.880369, 0.521229}, {9.22387, 6.26952, 4.837}}}};
   return table;
 }
 
@@ -65,10 +52,9 @@ YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   m["type"] = "conductor";
   std::string material = p.getString("material", "none");
   if (material != "none") {
-    auto it = conductorTable().find(material);
-    if (it != conductorTable().end()) {
-      m["eta"] = flowVec(it->second.eta);
-      m["k"] = flowVec(it->second.k);
+    if (const ComplexIor* metal = namedConductor(material)) {
+      m["eta"] = flowVec(metal->eta);
+      m["k"] = flowVec(metal->k);
     } else {
       xml.warn(n, "conductor material '" + material + "' is not in lightbench's table (Au, Ag, Cu, Al); approximated as a perfect mirror (material none)");
     }

@@ -18,10 +18,6 @@
 
 namespace lb {
 
-std::string ImportWarning::text(const std::string& file) const {
-  return file + ":" + std::to_string(line) + ": " + element + ": " + message;
-}
-
 bool isMitsubaXmlPath(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));

@@ -10,32 +10,12 @@
 // approximated as what); the loader prints them, or fails on the first under
 // --strict. Errors (malformed XML, an undefined $parameter, an unknown ref,
 // a mirrored camera) are ConfigErrors naming file and line.
-#include <yaml-cpp/yaml.h>
-#include <cstdint>
 #include <string>
-#include <utility>
-#include <vector>
+#include "core/scene_import.h"
 
 namespace lb {
 
-struct ImportWarning {
-  int line = 0;
-  std::string element;  // e.g. <rfilter type="tent">
-  std::string message;  // what is unsupported and what was done instead
-  std::string text(const std::string& file) const;
-};
-
-struct MitsubaImport {
-  YAML::Node scene;  // a lightbench scene description
-  // Where each part of `scene` came from, so that an error the YAML loader
-  // finds in it ("shapes[3].emission") names the XML line: (key prefix, line).
-  std::vector<std::pair<std::string, int>> origins;
-  std::vector<ImportWarning> warnings;  // one per kind, in file order
-  uint64_t sampleCount = 0;             // the sampler's sample_count, 0 if none
-  // Integrator parameters that define the integral rather than tune one
-  // estimator (Mitsuba's max_depth): they apply whichever integrator runs.
-  std::vector<std::string> sharedIntegratorKeys;
-};
+using MitsubaImport = ImportedScene;
 
 // True for a path ending in ".xml" (any case).
 bool isMitsubaXmlPath(const std::string& path);

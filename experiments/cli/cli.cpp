@@ -43,7 +43,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
 
   RenderArgs r;
   CLI::App* render = app.add_subcommand("render", "Render one scene to an EXR (plus a PNG preview and the resolved configuration).");
-  render->add_option("scene", r.scene, "Scene file: YAML, or Mitsuba 0.5/0.6/3 XML (.xml)")->required();
+  render->add_option("scene", r.scene, "Scene file: YAML, Mitsuba 0.5/0.6/3 XML (.xml) or pbrt-v4 (.pbrt)")->required();
   render->add_option("--integrator", r.integrator, "Integrator name (default: the scene's, else 'path'); see 'lightbench integrators'");
   render->add_option("--set", r.overrides, "Integrator parameter override key=value (repeatable), e.g. --set mis=balance");
   // Every value is checked as typed (flag_checks.h): 0, negative, NaN or
@@ -98,7 +98,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   render->add_option("--chunk-spp", r.chunkSpp, "Passes per chunk with --distributed (default 16; --spp must be a multiple)")
       ->needs(distributed)
       ->check(renderFlagCheck("--chunk-spp"));
-  render->add_flag("--strict", r.strict, "An imported (.xml) scene's unsupported elements are errors, not warnings");
+  render->add_flag("--strict", r.strict, "An imported (.xml, .pbrt) scene's unsupported elements are errors, not warnings");
   render->add_option("--world-scale", r.worldScale, "Scale the whole scene (camera, lights, radii) by this factor; replaces the scene's world_scale key")
       ->check(positiveFinite(""));
 

@@ -10,6 +10,7 @@
 #include <sstream>
 #include "core/aov.h"
 #include "core/format.h"
+#include "core/scene_import.h"
 #include "core/scene_loader.h"
 #include "experiments/chunks.h"
 #include "experiments/cli/commands.h"
@@ -87,7 +88,7 @@ IntegratorChoice chooseIntegrator(const SceneFile& sf, const RenderArgs& args) {
 // `lightbench render experiment.yaml`: say which command was meant instead of
 // reporting the experiment's keys as unknown scene keys.
 void checkNotAnExperiment(const std::string& path) {
-  if (std::filesystem::path(path).extension() == ".xml") return;
+  if (isImportedScenePath(path)) return;
   YAML::Node root = loadYamlFile(path);
   if (root.IsMap() && root["configurations"] && !root["camera"])
     throw ConfigError(path, root["configurations"].Mark().line + 1, "configurations",

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include "core/params.h"
+#include "core/scene_import.h"
 #include "experiments/cli/commands.h"
 #include "core/error.h"
 #include "experiments/cli/flag_checks.h"
@@ -17,7 +18,7 @@ int runExperimentCommand(const RunArgs& args) {
     ExperimentOptions eo;
     eo.quick = args.quick;
     // `lightbench run scene.yaml`: say which command was meant.
-    bool scene = std::filesystem::path(args.experiment).extension() == ".xml";
+    bool scene = isImportedScenePath(args.experiment);
     if (!scene) {
       YAML::Node root = loadYamlFile(args.experiment);
       scene = root.IsMap() && !root["configurations"] && (root["camera"] || root["shapes"]);

@@ -62,7 +62,7 @@ def _sequence(value, n, name):
 
 def render(scene, integrator=None, params=None, spp=None, seconds=None, seed=0, threads=0, progress=False, aovs=(),
            resolution=None, crop=None):
-    """Renders `scene` (a YAML scene or a Mitsuba .xml) and returns a RenderedImage.
+    """Renders `scene` (a YAML scene, a Mitsuba .xml or a pbrt-v4 .pbrt) and returns a RenderedImage.
 
     integrator: a name from lightbench.integrators() (default: the scene's, else
     "path"); params: that integrator's keys (dict), checked like the scene's

@@ -1,4 +1,5 @@
 #include "tests/support/render_helpers.h"
+#include "core/scene_import.h"
 #include <tbb/global_control.h>
 #include <sstream>
 #include "integrators/registry.h"
@@ -9,7 +10,7 @@ namespace lb::test {
 std::string sourcePath(const std::string& relative) { return std::string(LIGHTBENCH_SOURCE_DIR) + "/" + relative; }
 
 SceneFile loadShippedScene(const std::string& name, int width, int height, const std::string& extraYaml) {
-  if (name.size() > 4 && name.compare(name.size() - 4, 4, ".xml") == 0) {
+  if (isImportedScenePath(name)) {
     // An imported scene (scenes/external/…): resized and varied through the
     // loader's overrides, as an experiment does.
     YAML::Node overrides = YAML::Load(extraYaml);

@@ -14,7 +14,7 @@
 namespace lb::test {
 
 std::string sourcePath(const std::string& relative);
-// A shipped scene (scenes/NAME.yaml, or scenes/NAME when it ends in .xml)
+// A shipped scene (scenes/NAME.yaml, or scenes/NAME when it ends in .xml or .pbrt)
 // with its film resized; extra top-level YAML (e.g. "world_scale: 100") may
 // be merged in.
 SceneFile loadShippedScene(const std::string& name, int width, int height, const std::string& extraYaml = "");
