@@ -1,0 +1,134 @@
+// pbrt-v4 materials (src/pbrt/materials.cpp, with the User's Guide's
+// defaults) as lightbench materials (core/bsdfs/material_factory.cpp). Where
+// lightbench has no counterpart yet, a warning says what stands in for it.
+#include <cmath>
+#include "core/error.h"
+#include "core/pbrt/translator.h"
+
+namespace lb::pbrt {
+namespace {
+
+// A colour parameter that may be given as a texture; textures are not read
+// yet, so a texture stands for the default (warned by the caller).
+struct ColorParam {
+  glm::dvec3 rgb;
+  bool textured = false;
+  std::string approximation;
+};
+
+ColorParam colorParam(const ParamSet& ps, const std::string& name, glm::dvec3 fallback) {
+  const Param* p = ps.find(name);
+  if (p && p->type == "texture") return {fallback, true, ""};
+  auto c = ps.getColor(name, false);
+  if (!c) return {fallback, false, ""};
+  return {c->rgb, false, c->approximation};
+}
+
+}  // namespace
+
+std::string Translator::addMaterial(const std::string& preferredName, YAML::Node m) {
+  std::string name = preferredName.empty() ? "material" : preferredName;
+  if (name == "none" || materialNames_.count(name)) {
+    int k = 2;
+    while (materialNames_.count(name + "_" + std::to_string(k))) ++k;
+    name += "_" + std::to_string(k);
+  }
+  materialNames_.insert(name);
+  materials_[name] = m;
+  return name;
+}
+
+YAML::Node Translator::material(const std::string& type, const ParamSet& ps, const Where& at) {
+  YAML::Node m(YAML::NodeType::Map);
+  auto color = [&](const std::string& name, glm::dvec3 fallback) {
+    ColorParam c = colorParam(ps, name, fallback);
+    if (c.textured) warn(at, "a texture for \"" + name + "\": textures not supported yet by the pbrt importer; its default used");
+    if (!c.approximation.empty()) warn(at, c.approximation);
+    return c.rgb;
+  };
+  auto albedo = [&](const std::string& name, glm::dvec3 fallback) {
+    glm::dvec3 c = color(name, fallback);
+    if (glm::any(glm::greaterThan(c, glm::dvec3(1))) || glm::any(glm::lessThan(c, glm::dvec3(0)))) {
+      warn(at, "\"" + name + "\" outside [0, 1] clamped (lightbench's BSDFs conserve energy)");
+      c = glm::clamp(c, 0.0, 1.0);
+    }
+    return flowVec(c);
+  };
+  // GGX alpha from roughness (import.h); lightbench's microfacets are isotropic.
+  auto roughness = [&](const std::string& prefix) {
+    double r = ps.getFloat(prefix + "roughness", 0);
+    double u = ps.getFloat(prefix + "uroughness", r), v = ps.getFloat(prefix + "vroughness", r);
+    if (u < 0 || v < 0) throw ConfigError(at.file, at.line, at.column, prefix + "roughness", "must not be negative");
+    if (u != v) warn(at, "anisotropic roughness approximated by the mean of uroughness and vroughness");
+    double alpha = (u + v) / 2;
+    if (ps.getBool("remaproughness", true)) alpha = std::sqrt(alpha);
+    if (alpha > 1) {
+      warn(at, "a GGX alpha above 1 clamped to 1");
+      alpha = 1;
+    }
+    m["roughness"] = alpha;
+    m["distribution"] = "ggx";
+  };
+  auto conductor = [&](const std::string& prefix) {
+    m["type"] = "conductor";
+    if (ps.has(prefix + "reflectance")) {
+      // pbrt-v4's artist-friendly form: eta 1 and the k whose normal-incidence
+      // Fresnel reflectance is r, k = 2√r / √(1 − r).
+      glm::dvec3 r = glm::clamp(color(prefix + "reflectance", glm::dvec3(0)), 0.0, 0.9999);
+      m["eta"] = 1.0;
+      m["k"] = flowVec(2.0 * glm::sqrt(r) / glm::sqrt(1.0 - r));
+    } else {
+      m["eta"] = flowVec(color(prefix + "eta", *namedSpectrum("metal-Cu-eta")));
+      m["k"] = flowVec(color(prefix + "k", *namedSpectrum("metal-Cu-k")));
+    }
+    roughness(prefix);
+  };
+  auto ior = [&](const std::string& name) {
+    ColorParam c = colorParam(ps, name, glm::dvec3(1.5));
+    if (c.textured) warn(at, "a textured eta not supported; 1.5 used");
+    if (c.rgb.x != c.rgb.y || c.rgb.y != c.rgb.z) warn(at, "a dispersive eta approximated by its green value");
+    double v = c.rgb.y;
+    if (!(v > 0)) throw ConfigError(at.file, at.line, at.column, name, "an index of refraction must be positive");
+    return v;
+  };
+  if (const Param* p = ps.find("displacement")) warn(at, "parameter " + p->declaration() + " (bump mapping) not supported yet; ignored");
+  if (const Param* p = ps.find("normalmap")) warn(at, "parameter " + p->declaration() + " not supported yet; ignored");
+  if (type == "diffuse") {
+    m["type"] = "diffuse";
+    m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
+  } else if (type == "conductor") {
+    conductor("");
+  } else if (type == "dielectric" || type == "thindielectric") {
+    m["type"] = type == "dielectric" ? "dielectric" : "thin_dielectric";
+    m["ior"] = ior("eta");
+    if (type == "dielectric") roughness("");
+  } else if (type == "coateddiffuse") {
+    warn(at, "the dielectric coating not supported yet; read as diffuse with its reflectance");
+    ps.markAllUsed();
+    m["type"] = "diffuse";
+    m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
+  } else if (type == "coatedconductor") {
+    warn(at, "the dielectric coating not supported yet; read as its conductor");
+    conductor("conductor.");
+    ps.markAllUsed();
+  } else if (type == "interface" || type == "none" || type.empty()) {
+    // No surface: rays pass straight through (a medium boundary in pbrt).
+    m["type"] = "dielectric";
+    m["ior"] = 1.0;
+  } else if (type == "diffusetransmission") {
+    warn(at, "diffuse transmission not supported; read as diffuse with its reflectance");
+    m["type"] = "diffuse";
+    m["albedo"] = albedo("reflectance", glm::dvec3(0.25));
+    ps.markAllUsed();
+  } else {
+    warn(at, "material '" + type + "' not supported; read as diffuse 0.5");
+    ps.markAllUsed();
+    m["type"] = "diffuse";
+    m["albedo"] = 0.5;
+  }
+  ps.find("type");
+  warnUnused(ps, at);
+  return m;
+}
+
+}  // namespace lb::pbrt

@@ -1,0 +1,101 @@
+#pragma once
+// The translation of one pbrt-v4 scene, directive by directive: import.cpp
+// reads the file structure, transforms, attributes and instancing; options.cpp
+// the camera, film, sampler, filter and integrator; shapes.cpp shapes and
+// lights; materials.cpp materials and textures.
+#include <glm/glm.hpp>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+#include "core/pbrt/params.h"
+#include "core/scene_import.h"
+
+namespace lb::pbrt {
+
+// Where a directive was written: its own file and line, and the line in the
+// main file that reached it (itself, or the Include that read its file).
+struct Where {
+  std::string file;
+  int line = 0, column = 0;
+  int mainLine = 0;
+  std::string element;  // e.g. Shape "sphere"
+};
+
+struct AreaLight {
+  glm::dvec3 radiance{0};  // L × scale (normalised as pbrt-v4 does)
+  bool twoSided = false;
+  double power = -1;  // `power`: rescale to this many watts once the area is known
+  Where at;
+};
+
+// pbrt's graphics state: what AttributeBegin saves and AttributeEnd restores.
+struct GraphicsState {
+  glm::dmat4 ctm{1.0};
+  bool reverseOrientation = false;
+  std::string material;  // a lightbench material name; "" is pbrt's default (diffuse 0.5)
+  std::optional<AreaLight> areaLight;
+};
+
+// A shape inside ObjectBegin/End, kept to be placed by each ObjectInstance.
+struct ShapeRecord {
+  std::string type;
+  ParamSet params;
+  GraphicsState state;
+  Where at;
+};
+
+YAML::Node flowVec(const glm::dvec3& v);
+YAML::Node rowMajor(const glm::dmat4& m);
+
+class Translator {
+ public:
+  explicit Translator(std::string mainPath);
+  ImportedScene run(const std::string& text);
+
+ private:
+  // import.cpp
+  void parse(Tokenizer& tokens, int includeDepth, int mainLine);
+  void directive(const Token& name, Tokenizer& tokens, int includeDepth, int mainLine);
+  void include(const Token& directive, Tokenizer& tokens, int includeDepth, int mainLine);
+  void warn(const Where& at, const std::string& message);
+  // Warns once for each parameter nobody read.
+  void warnUnused(const ParamSet& ps, const Where& at);
+  // options.cpp
+  void camera(const std::string& type, const ParamSet& ps, const Where& at);
+  void film(const std::string& type, const ParamSet& ps, const Where& at);
+  void sampler(const std::string& type, const ParamSet& ps, const Where& at);
+  void pixelFilter(const std::string& type, const ParamSet& ps, const Where& at);
+  void integrator(const std::string& type, const ParamSet& ps, const Where& at);
+  // shapes.cpp
+  void shape(const std::string& type, const ParamSet& ps, const GraphicsState& gs, const Where& at);
+  void lightSource(const std::string& type, const ParamSet& ps, const Where& at);
+  AreaLight areaLightSource(const std::string& type, const ParamSet& ps, const Where& at);
+  // materials.cpp: the lightbench material for a pbrt material of `type`.
+  YAML::Node material(const std::string& type, const ParamSet& ps, const Where& at);
+  std::string addMaterial(const std::string& preferredName, YAML::Node m);
+
+  std::string mainPath_, folder_;
+  ImportedScene out_;
+  std::vector<ImportWarning> warnings_;
+  std::map<std::pair<std::string, std::string>, size_t> warningIndex_;
+  std::vector<std::vector<int>> alsoLines_;
+
+  GraphicsState gs_;
+  std::vector<GraphicsState> attributeStack_;
+  std::vector<glm::dmat4> transformStack_;  // TransformBegin/End (pbrt-v3)
+  std::map<std::string, glm::dmat4> namedCoordinateSystems_;
+  std::map<std::string, std::string> namedMaterials_;  // pbrt name → lightbench name
+  std::set<std::string> materialNames_;
+  std::map<std::string, std::vector<ShapeRecord>> objects_;
+  std::string currentObject_;  // inside ObjectBegin, else ""
+  bool inWorld_ = false, cameraSeen_ = false, filmSeen_ = false, samplerSeen_ = false, filterSeen_ = false,
+       integratorSeen_ = false;
+  YAML::Node root_{YAML::NodeType::Map}, materials_{YAML::NodeType::Map};
+  YAML::Node shapes_{YAML::NodeType::Sequence}, lights_{YAML::NodeType::Sequence};
+  YAML::Node filter_;  // the film's filter, set by PixelFilter
+  int width_ = 1280, height_ = 720;
+};
+
+}  // namespace lb::pbrt
