@@ -116,6 +116,8 @@ TriangleMesh inlineMesh(Params& p) {
   std::vector<float> pos = p.getFloatSequence("positions", 3);
   if (pos.empty()) p.fail("positions", "is required (3 numbers per vertex)");
   size_t n = pos.size() / 3;
+  // Indices are read as floats, exact up to 2^24.
+  if (n > (size_t(1) << 24)) p.fail("positions", "more than 16,777,216 vertices: write a mesh this large to a PLY file");
   for (size_t i = 0; i < n; ++i) m.positions.emplace_back(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
   std::vector<float> idx = p.getFloatSequence("indices", 3);
   if (idx.empty()) p.fail("indices", "is required (3 vertex indices per triangle)");

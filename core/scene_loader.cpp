@@ -257,6 +257,20 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
     std::string what = e.what(), prefix = path + ": ";
     throw ConfigError(path, best.second, "", what.compare(0, prefix.size(), prefix) == 0 ? what.substr(prefix.size()) : what);
   }
+  // The loader's own warnings about the translation ("file:0: shapes[3]: …")
+  // get the line of the source element that shape came from.
+  for (std::string& w : out.warnings) {
+    std::string prefix = path + ":0: ";
+    if (w.compare(0, prefix.size(), prefix) != 0) continue;
+    std::string rest = w.substr(prefix.size());
+    int line = 0;
+    size_t best = 0;
+    for (const auto& o : imp.origins)
+      if (rest.compare(0, o.first.size(), o.first) == 0 && o.first.size() > best &&
+          (rest.size() == o.first.size() || rest[o.first.size()] == ':' || rest[o.first.size()] == '.'))
+        best = o.first.size(), line = o.second;
+    if (line > 0) w = path + ":" + std::to_string(line) + ": " + rest;
+  }
   // Only now: a scene refused gets its one error line, not warnings first.
   if (!options.quiet) {
     std::vector<std::string> imported;

@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 SECONDS_PER_TARGET=${1:-60}
 shift || true
-ALL_TARGETS=(fuzz_scene fuzz_mitsuba fuzz_experiment fuzz_mesh fuzz_exr fuzz_texture)
+ALL_TARGETS=(fuzz_scene fuzz_mitsuba fuzz_pbrt fuzz_experiment fuzz_mesh fuzz_exr fuzz_texture)
 if (($#)); then TARGETS=("$@"); else TARGETS=("${ALL_TARGETS[@]}"); fi
 BUILD=${BUILD_DIR:-$ROOT/build-fuzz}
 JOBS=${JOBS:-1}
@@ -29,7 +29,7 @@ SEED_FLAG=()
 
 # Inputs larger than this are truncated: enough for any seed scene or
 # experiment, small enough that a fuzzer cannot spell out a huge mesh.
-declare -A MAX_LEN=([fuzz_scene]=8192 [fuzz_mitsuba]=16384 [fuzz_experiment]=8192 [fuzz_mesh]=16384 [fuzz_exr]=16384 [fuzz_texture]=16384)
+declare -A MAX_LEN=([fuzz_scene]=8192 [fuzz_mitsuba]=16384 [fuzz_pbrt]=16384 [fuzz_experiment]=8192 [fuzz_mesh]=16384 [fuzz_exr]=16384 [fuzz_texture]=16384)
 
 for t in "${TARGETS[@]}"; do
   [[ -n "${MAX_LEN[$t]:-}" ]] || { echo "fuzz: unknown target '$t' (have: ${ALL_TARGETS[*]})" >&2; exit 2; }
@@ -49,6 +49,7 @@ seed_files() {
   case $1 in
     fuzz_scene) find scenes tests/data -name '*.yaml' 2>/dev/null || true ;;
     fuzz_mitsuba) find scenes tests/data -name '*.xml' 2>/dev/null || true ;;
+    fuzz_pbrt) find scenes tests/data -name '*.pbrt' -size -16k 2>/dev/null || true ;;
     fuzz_experiment) find experiments tests/data -name '*.yaml' 2>/dev/null || true ;;
     fuzz_mesh) find scenes/meshes tests/data \( -name '*.obj' -o -name '*.ply' \) 2>/dev/null || true ;;
     fuzz_exr) find tests/data -name '*.exr' 2>/dev/null || true ;;

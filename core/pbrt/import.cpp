@@ -25,6 +25,7 @@ namespace {
 
 constexpr uintmax_t kMaxFileBytes = uintmax_t(256) << 20;
 constexpr int kMaxIncludeDepth = 16;
+constexpr int kMaxIncludedFiles = 10000;  // a file included twice per level would otherwise double 16 times
 constexpr size_t kMaxAttributeDepth = 4096;
 
 std::string readFile(const std::string& path, const std::string& from, int line, int column) {
@@ -128,6 +129,8 @@ void Translator::include(const Token& d, Tokenizer& tokens, int includeDepth, in
   if (p.is_relative()) p = std::filesystem::path(folder_) / p;
   if (name.text.size() > 3 && name.text.compare(name.text.size() - 3, 3, ".gz") == 0)
     tokens.fail(name, "gzip-compressed scene files are not supported; decompress '" + name.text + "'");
+  if (++includedFiles_ > kMaxIncludedFiles)
+    tokens.fail(d, "more than " + std::to_string(kMaxIncludedFiles) + " files included in all");
   std::string text = readFile(p.string(), tokens.file(), name.line, name.column);
   Tokenizer inner(text, p.string());
   // Import (pbrt-v4's parallel Include) reads the same for a serial parser.

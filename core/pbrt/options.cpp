@@ -15,7 +15,7 @@ void Translator::camera(const std::string& type, const ParamSet& ps, const Where
   glm::dmat4 worldFromCamera = glm::inverse(gs_.ctm);
   glm::dmat3 r(worldFromCamera);
   for (int c = 0; c < 3; ++c)
-    if (std::abs(glm::length(r[c]) - 1) > 1e-3)
+    if (!(std::abs(glm::length(r[c]) - 1) <= 1e-3))
       throw ConfigError(at.file, at.line, at.column, "", "the camera transform scales (each axis must keep unit length)");
   double fov = ps.getFloat("fov", 90);
   if (!(fov > 0 && fov < 180)) ps.fail(*ps.find("fov"), "must be in (0, 180) degrees");

@@ -95,7 +95,7 @@ class Translator {
   YAML::Node root_{YAML::NodeType::Map}, materials_{YAML::NodeType::Map};
   YAML::Node shapes_{YAML::NodeType::Sequence}, lights_{YAML::NodeType::Sequence};
   YAML::Node filter_;  // the film's filter, set by PixelFilter
-  int width_ = 1280, height_ = 720;
+  int includedFiles_ = 0;
 };
 
 }  // namespace lb::pbrt
