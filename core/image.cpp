@@ -261,40 +261,6 @@ std::map<std::string, std::string> readExrAttributes(const std::string& path) {
   }
 }
 
-Image readPng(const std::string& path, bool srgbDecode) {
-  // libpng's simplified API decodes any PNG (palette, grey, 16 bit, alpha) to
-  // 8-bit RGB as stored, i.e. still sRGB-encoded; the transfer curve is ours.
-  png_image png{};
-  png.version = PNG_IMAGE_VERSION;
-  if (!png_image_begin_read_from_file(&png, path.c_str()))
-    throw std::runtime_error("cannot read " + path + ": " + png.message);
-  if (double(png.width) * double(png.height) > kMaxExrPixels) {
-    png_image_free(&png);
-    throw std::runtime_error("cannot read " + path + ": larger than the 8192 x 8192 pixels lightbench reads");
-  }
-  // A 16-bit file is reduced to 8 bits without a gamma change (libpng would
-  // otherwise take it as linear and encode it), and alpha is read and
-  // dropped rather than composited onto black: Mitsuba's reading of both.
-  png.flags |= PNG_IMAGE_FLAG_16BIT_sRGB;
-  png.format = PNG_FORMAT_RGBA;
-  std::vector<unsigned char> bytes(PNG_IMAGE_SIZE(png));
-  if (!png_image_finish_read(&png, nullptr, bytes.data(), 0, nullptr)) {
-    std::string why = png.message;
-    png_image_free(&png);
-    throw std::runtime_error("cannot read " + path + ": " + why);
-  }
-  // The sRGB transfer function (IEC 61966-2-1), inverted.
-  std::array<float, 256> lut;
-  for (int i = 0; i < 256; ++i) {
-    float v = i / 255.f;
-    lut[i] = !srgbDecode ? v : v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-  }
-  Image image(int(png.width), int(png.height));
-  for (size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = Color(lut[bytes[4 * i]], lut[bytes[4 * i + 1]], lut[bytes[4 * i + 2]]);
-  return image;
-}
-
 void writePng(const std::string& path, const Image& image, float exposure) {
   std::string tmp = temporaryPathFor(path);
   FILE* fp = std::fopen(tmp.c_str(), "wb");

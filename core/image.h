@@ -40,9 +40,6 @@ std::map<std::string, std::string> readExrAttributes(const std::string& path);
 // channel sets are an error listing the channels found. At most 8192 x 8192
 // pixels (a header claiming more is refused before anything is allocated).
 Image readExr(const std::string& path);
-// An 8-bit RGB view of any PNG (at most 8192 x 8192), decoded from sRGB to
-// linear when `srgbDecode` (Mitsuba's bitmap with raw = false), else v / 255.
-Image readPng(const std::string& path, bool srgbDecode);
 // Tone mapping: multiply by 2^exposure, clamp, sRGB transfer curve.
 void writePng(const std::string& path, const Image& image, float exposure = 0);
 // Writes `content` to `path` through a temporary file and a rename.

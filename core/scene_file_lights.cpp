@@ -1,6 +1,7 @@
 // The `lights:` of a YAML scene, and the check of their powers once the scene
 // is built (scene_file_parts.h).
 #include "core/scene_file_parts.h"
+#include "core/image_input.h"
 #include "core/memory.h"
 #include <algorithm>
 #include <cmath>
@@ -109,7 +110,8 @@ void readLight(Params& p, Scene& scene, LoadContext& ctx) {
     if (!std::filesystem::is_regular_file(full, ec)) p.fail("file", "not a regular file: " + full.string());
     Image map;
     try {
-      map = readExr(full.string());
+      // Any format read for textures; an integer one (a PNG, a JPEG) is sRGB.
+      map = readImageFile(full.string(), true).rgb;
     } catch (const std::exception& e) {
       p.fail("file", e.what());
     }

@@ -30,6 +30,10 @@ struct LoadContext {
   // Printed only once the whole scene is accepted (issue 34, class 8): a
   // scene refused later gets its one error line, not warnings first.
   std::vector<std::string> warnings;
+  // An imported scene (Mitsuba, pbrt): a shape whose every triangle is
+  // degenerate is dropped with a warning, as those renderers show it
+  // (nothing), instead of the YAML loader's error.
+  bool imported = false;
 };
 
 // Embree takes no ray whose origin has a coordinate beyond 1.844e18

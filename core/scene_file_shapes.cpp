@@ -238,6 +238,12 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
       for (Vec3& n : mesh.normals) n = -n;
     }
     // An all-degenerate shape is an error (one line), not a warning and an error.
+    if (mesh.triangles.empty() && ctx.imported && isBlack(emission.radiance)) {
+      ctx.warnings.push_back(p.file() + ":" + std::to_string(p.line()) + ": " + p.context() +
+                             ": every triangle is degenerate (zero area); the shape is dropped");
+      p.checkUnused();
+      return;
+    }
     if (mesh.triangles.empty()) {
       if (!isBlack(emission.radiance)) p.fail("emission", "emitter has zero area (every triangle is degenerate)");
       p.fail(type == "mesh" ? "file" : type == "triangles" ? "positions" : "transform", "shape has zero area (every triangle is degenerate)");

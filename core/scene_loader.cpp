@@ -122,13 +122,14 @@ void readCamera(Params& root, Scene& scene, const LoadContext& ctx) {
   scene.camera.setFilter(filter);
 }
 
-SceneFile loadFromNode(const YAML::Node& root, const std::string& path, bool deferWarnings = false) {
+SceneFile loadFromNode(const YAML::Node& root, const std::string& path, bool deferWarnings = false, bool imported = false) {
   SceneFile out;
   out.path = path;
   out.scene = std::make_unique<Scene>();
   Scene& scene = *out.scene;
   Params p(root, path, "");
   LoadContext ctx;
+  ctx.imported = imported;
   ctx.folder = std::filesystem::path(path).parent_path().string();
   ctx.worldScale = p.getFloat("world_scale", 1.f);
   if (std::string problem = worldScaleProblem(ctx.worldScale); !problem.empty()) p.fail("world_scale", problem);
@@ -243,7 +244,7 @@ SceneFile loadImported(const std::string& path, const YAML::Node& overrides, con
   applyOverrides(root, overrides);
   SceneFile out;
   try {
-    out = loadFromNode(root, path, options.deferWarnings);
+    out = loadFromNode(root, path, options.deferWarnings, true);
   } catch (const ConfigError& e) {
     if (e.line() > 0 || e.file() != path) throw;
     std::pair<std::string, int> best{"", 0};

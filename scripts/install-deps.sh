@@ -7,6 +7,7 @@ packages=(
   build-essential cmake git
   libembree-dev libtbb-dev libflann-dev libopenexr-dev libglm-dev
   libopenmesh-dev libyaml-cpp-dev libcli11-dev libpng-dev libpugixml-dev
+  libopenimageio-dev  # texture and environment-map images: JPEG, PNG, TGA, HDR, PFM, EXR
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   nlohmann-json3-dev pybind11-dev python3-dev  # meta.json, the Python package

@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "core/mitsuba/bsdfs.h"
 #include "core/mitsuba/translator.h"
+#include "core/image_input.h"
 
 namespace lb {
 
@@ -392,10 +393,8 @@ void Translator::readEmitter(pugi::xml_node n) {
     // The same lat-long convention as lightbench's map (+y up, u = 0 along
     // −z, v = 0 at the top row: environment_map_light.h); to_world turns it.
     std::string file = p.getString("filename", "");
-    std::string ext = file.size() >= 4 ? file.substr(file.size() - 4) : "";
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".exr") {
-      xml_.warn(n, "envmap '" + file + "': lightbench reads OpenEXR maps only (convert it to .exr); the emitter is dropped");
+    if (!isReadableImagePath(file)) {
+      xml_.warn(n, "envmap '" + file + "': not an image format lightbench reads (EXR, HDR, PFM, PNG, JPEG, ...); the emitter is dropped");
       p.takeAll();
       p.finish();
       return;
@@ -416,7 +415,7 @@ void Translator::readEmitter(pugi::xml_node n) {
     xml_.warn(n, "envmap texels are looked up nearest, not bilinearly as in Mitsuba (sampling then follows the map exactly)");
     if (xml_.oldDialect) {
       double gamma = p.getFloat("gamma", 0);
-      if (gamma != 0 && gamma != 1) xml_.warn(n, "envmap gamma is not supported for EXR maps; the file's linear values are used");
+      if (gamma != 0 && gamma != 1) xml_.warn(n, "envmap gamma is not supported; float files are linear, integer ones read as sRGB");
       p.getFloat("sampling_weight", 1);
       p.getBool("cache", false);
     }

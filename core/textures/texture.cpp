@@ -1,4 +1,5 @@
 #include "core/textures/texture.h"
+#include "core/image_input.h"
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -60,15 +61,14 @@ std::shared_ptr<const Texture> makeTexture(Params& p, const std::string& folder)
     bool srgb = p.getBool("srgb", true);
     bool bilinear = p.getChoice("filter", "bilinear", {"bilinear", "nearest"}) == "bilinear";
     std::filesystem::path full = std::filesystem::path(folder) / file;
-    std::string ext = full.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".png" && ext != ".exr") p.fail("file", "'" + file + "': lightbench reads PNG and EXR textures");
+    if (!isReadableImagePath(full.string()))
+      p.fail("file", "'" + file + "': lightbench reads PNG, JPEG, TGA, BMP, TIFF, HDR, PFM and EXR textures");
     std::error_code ec;
     if (!std::filesystem::is_regular_file(full, ec)) p.fail("file", "'" + full.string() + "' is not a readable file");
     Image image;
     try {
-      // EXR holds linear values already; `srgb` applies to 8-bit PNG only.
-      image = ext == ".exr" ? readExr(full.string()) : readPng(full.string(), srgb);
+      // Float formats hold linear values already; `srgb` applies to integer ones.
+      image = readImageFile(full.string(), srgb).rgb;
     } catch (const std::runtime_error& e) {
       p.fail("file", e.what());
     }

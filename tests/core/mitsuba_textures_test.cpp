@@ -95,12 +95,14 @@ TEST(MitsubaTextures, EnvmapKeepsItsFileScaleAndRotation) {
   std::vector<double> r = numbers(l["rotation"]), want = {0, 0, 1, 0, 1, 0, -1, 0, 0};
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(r[size_t(i)], want[size_t(i)], 1e-12) << i;
   EXPECT_TRUE(warned(imp, "nearest"));
-  // A scaled map is not a direction mapping; an .hdr is dropped, said.
+  // A scaled map is not a direction mapping; a format not read is dropped, said.
   EXPECT_THROW(import(xmlScene("<emitter type=\"envmap\"><string name=\"filename\" value=\"a.exr\"/>"
                                "<transform name=\"to_world\"><scale value=\"2\"/></transform></emitter>\n")), ConfigError);
   MitsubaImport hdr = import(xmlScene("<emitter type=\"envmap\"><string name=\"filename\" value=\"a.hdr\"/></emitter>\n"));
-  EXPECT_TRUE(warned(hdr, "OpenEXR maps only"));
-  EXPECT_FALSE(hdr.scene["lights"]);
+  EXPECT_EQ(hdr.scene["lights"][0]["file"].as<std::string>(), "a.hdr");  // Radiance HDR: read (core/image_input.h)
+  MitsubaImport psd = import(xmlScene("<emitter type=\"envmap\"><string name=\"filename\" value=\"a.psd\"/></emitter>\n"));
+  EXPECT_TRUE(warned(psd, "not an image format lightbench reads"));
+  EXPECT_FALSE(psd.scene["lights"]);
 }
 
 TEST(MitsubaTextures, ThinDielectricPlasticAndDisk) {

@@ -397,3 +397,21 @@ TEST(PbrtImport, ImportedCornellBoxMatchesTheMitsubaOne) {
 
 }  // namespace
 }  // namespace lb
+
+namespace lb {
+namespace {
+
+// An imported shape of zero area is dropped with a warning (Mitsuba and pbrt
+// show nothing there), where YAML refuses it; an emitting one stays an error.
+TEST(PbrtImport, AShapeOfZeroAreaIsDroppedNotRefused) {
+  const std::string flat = "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0 ]\n";
+  SceneFile sf = loadPbrtSnippet("WorldBegin\nShape \"sphere\"\n" + flat);
+  EXPECT_EQ(sf.scene->shapes().size(), 1u);
+  bool warned = false;
+  for (const std::string& w : sf.warnings) warned |= w.find("every triangle is degenerate") != std::string::npos;
+  EXPECT_TRUE(warned);
+  EXPECT_THROW(loadPbrtSnippet("WorldBegin\nAreaLightSource \"diffuse\"\n" + flat), ConfigError);
+}
+
+}  // namespace
+}  // namespace lb

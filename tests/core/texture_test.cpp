@@ -3,6 +3,7 @@
 // checkerboard's cells), PNG decoding, the OBJ v flip, the box and disk
 // parametrisations, and a textured material against the same constant colour.
 #include <gtest/gtest.h>
+#include "core/image_input.h"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -75,7 +76,7 @@ TEST(Texture, PngIsDecodedFromSrgbUnlessRaw) {
   im.at(0, 0) = Color(0.5f, 0.f, 1.f);
   std::string path = tempPath("half.png");
   writePng(path, im);
-  Image linear = readPng(path, true), raw = readPng(path, false);
+  Image linear = readImageFile(path, true).rgb, raw = readImageFile(path, false).rgb;
   std::filesystem::remove(path);
   // The stored byte, decoded by the sRGB formula written out here.
   double stored = 188 / 255.0, decoded = std::pow((stored + 0.055) / 1.055, 2.4);
