@@ -4,6 +4,8 @@
 // through one library, OpenImageIO. Integer formats hold display-encoded
 // values: decoded from sRGB to linear unless raw (Mitsuba's bitmap: 8- and
 // 16-bit files are sRGB unless `raw`); float formats are linear already.
+// EXR goes through OpenEXR's reader (core/image.h), which checks a header's
+// size before allocating; alpha is not read from EXR.
 // References and renders stay with OpenEXR (core/image.h).
 #include <string>
 #include <vector>
