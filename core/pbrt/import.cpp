@@ -310,12 +310,12 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
   } else if (name == "Texture") {
     needWorld(true);
     std::string texName = string("texture name");
-    string("texture class (spectrum or float)");
+    std::string texClass = string("texture class (spectrum or float)");
     std::string texType = typed("texture type");
     at.element = "Texture " + inQuotes(texName) + " " + inQuotes(texType);
     ParamSet ps = ParamSet::parse(tokens);
-    ps.markAllUsed();
-    warn(at, "textures not supported yet by the pbrt importer; materials that use it take their default value");
+    YAML::Node t = texture(texClass, texType, ps, at);
+    if (t) namedTextures_[texName] = t;
   } else if (name == "LightSource") {
     needWorld(true);
     notInObject();

@@ -35,6 +35,8 @@
 //   infinite) rescale it to that power or illuminance.
 // - `remaproughness` (default true) maps roughness to GGX alpha as
 //   sqrt(roughness) (pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha).
+// - Texture coordinates stay pbrt's; an imagemap is looked up at (s, 1 − t),
+//   which its uv_transform does (materials.cpp).
 // - Relative file names resolve against the folder of the file given on
 //   the command line, also inside `Include`d files (pbrt-v4's search
 //   directory).

@@ -38,6 +38,62 @@ std::string Translator::addMaterial(const std::string& preferredName, YAML::Node
   return name;
 }
 
+// pbrt-v4's imagemap and 2D checkerboard (textures.cpp) as lightbench's image
+// and checkerboard textures. pbrt looks an image up at (s, 1 − t) with
+// (s, t) = (su·u + du, sv·v + dv) and uvs as the shapes have them; lightbench
+// at (u', v') with v' down the image, so uv_transform = [su, 0, du, 0, −sv, 1 − dv].
+// The checkerboard compares ⌊s⌋ + ⌊t⌋ with no flip: [su, 0, du, 0, sv, dv] / 2.
+YAML::Node Translator::texture(const std::string& texClass, const std::string& type, const ParamSet& ps, const Where& at) {
+  YAML::Node t(YAML::NodeType::Map);
+  double su = ps.getFloat("uscale", 1), sv = ps.getFloat("vscale", 1), du = ps.getFloat("udelta", 0), dv = ps.getFloat("vdelta", 0);
+  if (const Param* p = ps.find("mapping"); p && !p->strings.empty() && p->strings[0] != "uv") {
+    warn(at, "mapping '" + p->strings[0] + "' not supported; uv used");
+  }
+  if (type == "imagemap") {
+    std::string file = ps.getString("filename", "");
+    if (file.empty()) throw ConfigError(at.file, at.line, at.column, "filename", "an imagemap needs \"string filename\"");
+    t["type"] = "image";
+    t["file"] = file;
+    std::string encoding = ps.getString("encoding", "sRGB");
+    if (encoding != "sRGB" && encoding != "linear") warn(at, "encoding '" + encoding + "' read as sRGB");
+    t["srgb"] = encoding != "linear";
+    std::string filter = ps.getString("filter", "bilinear");
+    t["filter"] = filter == "point" ? "nearest" : "bilinear";
+    if (filter != "point" && filter != "bilinear") warn(at, "filter '" + filter + "' (mip-mapped) approximated as bilinear");
+    if (ps.getString("wrap", "repeat") != "repeat") warn(at, "wrap modes other than repeat read as repeat");
+    if (ps.getBool("invert", false)) warn(at, "invert not supported; ignored");
+    if (ps.getFloat("scale", 1) != 1) warn(at, "scale not supported; ignored");
+  } else if (type == "checkerboard") {
+    if (ps.getInt("dimension", 2) != 2) {
+      ps.markAllUsed();
+      warn(at, "a 3D checkerboard not supported; dropped");
+      return YAML::Node();
+    }
+    // pbrt: tex1 where ⌊s⌋ + ⌊t⌋ is even; lightbench's color0 where ⌊2u'⌋ and ⌊2v'⌋ have the same parity.
+    t["type"] = "checkerboard";
+    auto value = [&](const char* name, double fallback) {
+      auto c = ps.getColor(name, false);
+      return flowVec(c ? c->rgb : glm::dvec3(fallback));
+    };
+    t["color0"] = value("tex1", 1);
+    t["color1"] = value("tex2", 0);
+    su /= 2, sv /= 2, du /= 2, dv /= 2;
+  } else {
+    ps.markAllUsed();
+    warn(at, "texture '" + type + "' not supported; materials that use it take their default value");
+    return YAML::Node();
+  }
+  if (texClass != "spectrum") warn(at, "float textures not used by lightbench's materials");
+  YAML::Node m(YAML::NodeType::Sequence);
+  m.SetStyle(YAML::EmitterStyle::Flow);
+  // The checkerboard is not an image lookup: no flip of v.
+  bool image = type == "imagemap";
+  for (double x : {su, 0.0, du, 0.0, image ? -sv : sv, image ? 1 - dv : dv}) m.push_back(x);
+  t["uv_transform"] = m;
+  warnUnused(ps, at);
+  return t;
+}
+
 YAML::Node Translator::material(const std::string& type, const ParamSet& ps, const Where& at) {
   YAML::Node m(YAML::NodeType::Map);
   auto color = [&](const std::string& name, glm::dvec3 fallback) {
@@ -93,7 +149,13 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
   };
   if (const Param* p = ps.find("displacement")) warn(at, "parameter " + p->declaration() + " (bump mapping) not supported yet; ignored");
   if (const Param* p = ps.find("normalmap")) warn(at, "parameter " + p->declaration() + " not supported yet; ignored");
-  if (type == "diffuse") {
+  const Param* refl = ps.find("reflectance");
+  if (type == "diffuse" && refl && refl->type == "texture" && refl->strings.size() == 1 &&
+      namedTextures_.count(refl->strings[0])) {
+    m["type"] = "diffuse";
+    m["albedo"] = 1.0;
+    m["texture"] = namedTextures_.at(refl->strings[0]);
+  } else if (type == "diffuse") {
     m["type"] = "diffuse";
     m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
   } else if (type == "conductor") {

@@ -88,8 +88,7 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     }
     if (gs.reverseOrientation)
       for (double& x : m.n) x = -x;
-    // pbrt's v runs up the image, lightbench's down (docs/scene-format.md, Textures).
-    for (size_t i = 1; i < m.uv.size(); i += 2) m.uv[i] = 1 - m.uv[i];
+    // uvs as pbrt has them (as a PLY's are read): the textures flip v (materials.cpp).
     s["type"] = "triangles";
     s["positions"] = flowList(m.p);
     s["indices"] = flowList(std::vector<double>(idx.begin(), idx.end()));

@@ -75,6 +75,8 @@ class Translator {
   // materials.cpp: the lightbench material for a pbrt material of `type`.
   YAML::Node material(const std::string& type, const ParamSet& ps, const Where& at);
   std::string addMaterial(const std::string& preferredName, YAML::Node m);
+  // A Texture directive as lightbench's `texture:` mapping; null (warned) if not read.
+  YAML::Node texture(const std::string& texClass, const std::string& type, const ParamSet& ps, const Where& at);
 
   std::string mainPath_, folder_;
   ImportedScene out_;
@@ -88,6 +90,7 @@ class Translator {
   std::map<std::string, glm::dmat4> namedCoordinateSystems_;
   std::map<std::string, std::string> namedMaterials_;  // pbrt name → lightbench name
   std::set<std::string> materialNames_;
+  std::map<std::string, YAML::Node> namedTextures_;  // textures read (imagemap, checkerboard)
   std::map<std::string, std::vector<ShapeRecord>> objects_;
   std::string currentObject_;  // inside ObjectBegin, else ""
   bool inWorld_ = false, cameraSeen_ = false, filmSeen_ = false, samplerSeen_ = false, filterSeen_ = false,

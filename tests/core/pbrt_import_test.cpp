@@ -415,3 +415,44 @@ TEST(PbrtImport, AShapeOfZeroAreaIsDroppedNotRefused) {
 
 }  // namespace
 }  // namespace lb
+
+namespace lb {
+namespace {
+
+// Textures on a diffuse reflectance, evaluated through lightbench's texture
+// at uvs where pbrt's definitions give the answer: a checkerboard's tex1 where
+// ⌊s⌋ + ⌊t⌋ is even (s = 4u, t = 2v here), and an imagemap's texel at (s, 1 − t).
+TEST(PbrtImport, CheckerboardAndImagemapTexturesLookUpWherePbrtDoes) {
+  ImportedScene imp = importPbrtSnippet(
+      "WorldBegin\n"
+      "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 \"float vscale\" 2 "
+      "\"rgb tex1\" [ 0.9 0.9 0.9 ] \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
+      "Texture \"photo\" \"spectrum\" \"imagemap\" \"string filename\" \"maps/x.png\" \"float vdelta\" 0.25\n"
+      "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+      "Shape \"sphere\"\n"
+      "Material \"diffuse\" \"texture reflectance\" \"photo\"\n"
+      "Shape \"sphere\"\n");
+  YAML::Node checks = imp.scene["materials"]["diffuse"]["texture"], photo = imp.scene["materials"]["diffuse_2"]["texture"];
+  ASSERT_TRUE(checks && photo);
+  auto apply = [](const YAML::Node& t, double u, double v) {
+    const YAML::Node& m = t["uv_transform"];
+    return glm::dvec2(m[0].as<double>() * u + m[1].as<double>() * v + m[2].as<double>(),
+                      m[3].as<double>() * u + m[4].as<double>() * v + m[5].as<double>());
+  };
+  for (double u : {0.05, 0.3, 0.55, 0.8})
+    for (double v : {0.1, 0.4, 0.7, 0.95}) {
+      bool pbrtTex1 = (int(std::floor(4 * u)) + int(std::floor(2 * v))) % 2 == 0;
+      glm::dvec2 w = apply(checks, u, v);
+      bool lightbenchColor0 = (int(std::floor(2 * w.x)) - int(std::floor(2 * w.y))) % 2 == 0;
+      EXPECT_EQ(pbrtTex1, lightbenchColor0) << u << " " << v;
+      // The imagemap: pbrt's image row is 1 − (v + 0.25) from the top.
+      glm::dvec2 q = apply(photo, u, v);
+      EXPECT_NEAR(q.x, u, 1e-12);
+      EXPECT_NEAR(q.y, 1 - (v + 0.25), 1e-12);
+    }
+  EXPECT_DOUBLE_EQ(checks["color0"][0].as<double>(), 0.9);
+  EXPECT_TRUE(photo["srgb"].as<bool>());
+}
+
+}  // namespace
+}  // namespace lb
