@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -87,13 +88,17 @@ ImportedScene Translator::run(const std::string& text) {
   if (!currentObject_.empty()) throw ConfigError(mainPath_, 0, "", "end of file inside ObjectBegin \"" + currentObject_ + "\"");
   if (!cameraSeen_) {
     // pbrt-v4's default: a perspective camera at the origin looking down +z, fov 90.
+    gs_.ctm = glm::dmat4(1.0);
     camera("perspective", ParamSet{}, Where{mainPath_, 0, 0, 0, "Camera"});
   }
   if (!filmSeen_) film("rgb", ParamSet{}, Where{mainPath_, 0, 0, 0, "Film"});
   if (!filterSeen_) pixelFilter("gaussian", ParamSet{}, Where{mainPath_, 0, 0, 0, "PixelFilter"});
-  if (!samplerSeen_) out_.sampleCount = 16;
+  if (!samplerSeen_) sampler("zsobol", ParamSet{}, Where{mainPath_, 0, 0, 0, "Sampler"});  // pbrt-v4's default
   if (!integratorSeen_) integrator("volpath", ParamSet{}, Where{mainPath_, 0, 0, 0, "Integrator"});
   root_["film"]["filter"] = filter_;
+  // pbrt-v4's SPPM traces one photon per pixel per iteration unless told.
+  if (root_["integrator"]["name"].as<std::string>() == "sppm" && !root_["integrator"]["photons_per_pass"])
+    root_["integrator"]["photons_per_pass"] = root_["film"]["width"].as<long>() * root_["film"]["height"].as<long>();
   if (materials_.size()) root_["materials"] = materials_;
   root_["shapes"] = shapes_;
   if (lights_.size()) root_["lights"] = lights_;
@@ -182,6 +187,13 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     if (!currentObject_.empty()) tokens.fail(d, name + " is not allowed inside ObjectBegin/ObjectEnd");
   };
 
+  // A transform that overflowed (LookAt or Scale near 1e308) is refused here,
+  // at its line, not as a non-finite number in the translation.
+  auto checkFinite = [&]() {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(gs_.ctm[c][r])) tokens.fail(d, name + ": the transformation matrix is no longer finite");
+  };
   if (name == "Translate") {
     std::vector<double> v = numbers(3);
     gs_.ctm = glm::translate(gs_.ctm, glm::dvec3(v[0], v[1], v[2]));
@@ -218,13 +230,18 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     auto it = namedCoordinateSystems_.find(n);
     if (it == namedCoordinateSystems_.end()) warn(at, "unknown coordinate system '" + n + "'; the transform is unchanged");
     else gs_.ctm = it->second;
-  } else if (name == "TransformBegin") {
-    transformStack_.push_back(gs_.ctm);
-    if (transformStack_.size() > kMaxAttributeDepth) tokens.fail(d, "TransformBegin nested too deep");
-  } else if (name == "TransformEnd") {
-    if (transformStack_.empty()) tokens.fail(d, "TransformEnd without TransformBegin");
-    gs_.ctm = transformStack_.back();
-    transformStack_.pop_back();
+  } else if (name == "TransformBegin" || name == "AttributeBegin") {
+    attributeStack_.emplace_back(name == "TransformBegin" ? 't' : 'a', gs_);
+    if (attributeStack_.size() > kMaxAttributeDepth) tokens.fail(d, name + " nested too deep");
+  } else if (name == "TransformEnd" || name == "AttributeEnd") {
+    char kind = name == "TransformEnd" ? 't' : 'a';
+    if (attributeStack_.empty()) tokens.fail(d, name + " without " + (kind == 't' ? "TransformBegin" : "AttributeBegin"));
+    if (attributeStack_.back().first != kind)
+      tokens.fail(d, name + " where the innermost open block is " +
+                         (attributeStack_.back().first == 'o' ? "ObjectBegin" : attributeStack_.back().first == 't' ? "TransformBegin" : "AttributeBegin") +
+                         " (mismatched nesting)");
+    gs_ = attributeStack_.back().second;
+    attributeStack_.pop_back();
   } else if (name == "ReverseOrientation") {
     gs_.reverseOrientation = !gs_.reverseOrientation;
   } else if (name == "ActiveTransform") {
@@ -235,19 +252,21 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
   } else if (name == "TransformTimes") {
     numbers(2);
     warn(at, "motion blur not supported; ignored");
-  } else if (name == "AttributeBegin") {
-    attributeStack_.push_back(gs_);
-    if (attributeStack_.size() > kMaxAttributeDepth) tokens.fail(d, "AttributeBegin nested too deep");
-  } else if (name == "AttributeEnd") {
-    if (attributeStack_.empty()) tokens.fail(d, "AttributeEnd without AttributeBegin");
-    gs_ = attributeStack_.back();
-    attributeStack_.pop_back();
   } else if (name == "Attribute") {
     string("target (shape, light, material, medium or texture)");
     ParamSet::parse(tokens).markAllUsed();
     warn(at, "default parameters by Attribute not supported; ignored");
-  } else if (name == "Include" || name == "Import") {
+  } else if (name == "Include") {
     include(d, tokens, includeDepth, mainLine);
+  } else if (name == "Import") {
+    // pbrt-v4 imports a file's definitions (named materials, textures,
+    // objects, shapes) but not its graphics state, and only in the world.
+    needWorld(true);
+    GraphicsState saved = gs_;
+    size_t depth = attributeStack_.size();
+    include(d, tokens, includeDepth, mainLine);
+    if (attributeStack_.size() != depth) tokens.fail(d, "the imported file leaves an AttributeBegin or TransformBegin open");
+    gs_ = saved;
   } else if (name == "WorldBegin") {
     needWorld(false);
     inWorld_ = true;
@@ -339,11 +358,13 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     currentObject_ = string("object name");
     if (objects_.count(currentObject_)) tokens.fail(d, "object " + inQuotes(currentObject_) + " defined twice");
     objects_[currentObject_];
-    attributeStack_.push_back(gs_);
+    attributeStack_.emplace_back('o', gs_);
   } else if (name == "ObjectEnd") {
     if (currentObject_.empty()) tokens.fail(d, "ObjectEnd without ObjectBegin");
+    if (attributeStack_.empty() || attributeStack_.back().first != 'o')
+      tokens.fail(d, "ObjectEnd inside an open AttributeBegin or TransformBegin (mismatched nesting)");
     currentObject_.clear();
-    gs_ = attributeStack_.back();
+    gs_ = attributeStack_.back().second;
     attributeStack_.pop_back();
   } else if (name == "ObjectInstance") {
     needWorld(true);
@@ -385,6 +406,7 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     }
     tokens.fail(d, "unknown directive '" + name + "'" + hint);
   }
+  checkFinite();
 }
 
 }  // namespace pbrt

@@ -35,6 +35,8 @@ std::string Translator::addMaterial(const std::string& preferredName, YAML::Node
   }
   materialNames_.insert(name);
   materials_[name] = m;
+  if (interfaceNext_) interfaceMaterials_.insert(name);
+  interfaceNext_ = false;
   return name;
 }
 
@@ -127,10 +129,11 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
   };
   auto conductor = [&](const std::string& prefix) {
     m["type"] = "conductor";
-    if (ps.has(prefix + "reflectance")) {
+    // coatedconductor names its metal conductor.eta and conductor.k, but its reflectance "reflectance".
+    if (ps.has("reflectance")) {
       // pbrt-v4's artist-friendly form: eta 1 and the k whose normal-incidence
       // Fresnel reflectance is r, k = 2√r / √(1 − r).
-      glm::dvec3 r = glm::clamp(color(prefix + "reflectance", glm::dvec3(0)), 0.0, 0.9999);
+      glm::dvec3 r = glm::clamp(color("reflectance", glm::dvec3(0)), 0.0, 0.9999);
       m["eta"] = 1.0;
       m["k"] = flowVec(2.0 * glm::sqrt(r) / glm::sqrt(1.0 - r));
     } else {
@@ -174,6 +177,7 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     conductor("conductor.");
     ps.markAllUsed();
   } else if (type == "interface" || type == "none" || type.empty()) {
+    interfaceNext_ = true;
     // No surface: rays pass straight through (a medium boundary in pbrt).
     m["type"] = "dielectric";
     m["ior"] = 1.0;

@@ -83,6 +83,7 @@ void Translator::sampler(const std::string& type, const ParamSet& ps, const Wher
     s["type"] = "halton";
   } else if (type == "stratified") {
     long x = ps.getInt("xsamples", 4), y = ps.getInt("ysamples", 4);
+    if (x < 1 || y < 1) throw ConfigError(at.file, at.line, at.column, x < 1 ? "xsamples" : "ysamples", "must be at least 1");
     ps.getBool("jitter", true);
     if (x != y || x < 1 || x > 64) {
       warn(at, "stratified with xsamples != ysamples (or outside 1-64) read as independent");
@@ -158,7 +159,8 @@ void Translator::integrator(const std::string& type, const ParamSet& ps, const W
     // alpha fixed at 2/3; -1 photons per iteration means one per pixel.
     long photons = ps.getInt("photonsperiteration", -1);
     if (photons > 0) integ["photons_per_pass"] = photons;
-    if (ps.has("radius")) integ["initial_radius"] = ps.getFloat("radius", 1);
+    // pbrt-v4's radius is absolute, default 1 (lightbench's default is relative to the scene).
+    integ["initial_radius"] = ps.getFloat("radius", 1);
     integ["alpha"] = 2.0 / 3.0;
     if (const Param* p = ps.find("iterations")) warn(at, "parameter " + p->declaration() + " read as nothing: lightbench's spp (--spp) counts passes");
     ps.find("seed");

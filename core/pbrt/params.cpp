@@ -60,7 +60,9 @@ glm::dvec3 blackbodyRgb(double kelvin) {
     return 2 * h * c * c / (std::pow(l, 5) * (std::exp(h * c / (l * kb * kelvin)) - 1)) * 1e-13;
   };
   glm::dvec3 xyz = integrateXyz(planck);
-  return glm::max(xyzToSrgb(xyz / xyz.y), glm::dvec3(0));
+  if (!(xyz.y > 0) || !std::isfinite(xyz.y)) return glm::dvec3(std::nan(""));  // too cold to see: the caller refuses it
+  glm::dvec3 rgb = xyzToSrgb(xyz / xyz.y);
+  return {std::max(rgb.r, 0.0), std::max(rgb.g, 0.0), std::max(rgb.b, 0.0)};
 }
 
 std::optional<glm::dvec3> namedSpectrum(const std::string& name) {
@@ -74,9 +76,11 @@ std::optional<glm::dvec3> namedSpectrum(const std::string& name) {
     }
     return std::nullopt;
   }
-  // Schott glasses at the d line (587.6 nm), from Schott's data sheets.
+  // Schott glasses at the d line (587.6 nm), from Schott's data sheets; pbrt-v4's
+  // glass-F5, F10 and F11 hold the data of SF5, SF10 and SF11.
   static const std::map<std::string, double> glasses = {
-      {"glass-BK7", 1.5168}, {"glass-BAF10", 1.6700}, {"glass-FK51A", 1.4866}, {"glass-LASF9", 1.8503}, {"glass-F5", 1.6034}};
+      {"glass-BK7", 1.5168},   {"glass-BAF10", 1.6700}, {"glass-FK51A", 1.4866}, {"glass-LASF9", 1.8503},
+      {"glass-F5", 1.6727},    {"glass-F10", 1.7283},   {"glass-F11", 1.7847}};
   if (auto it = glasses.find(name); it != glasses.end()) return glm::dvec3(it->second);
   return std::nullopt;
 }
@@ -244,7 +248,8 @@ std::optional<ColorValue> ParamSet::getColor(const std::string& name, bool illum
     if (p->numbers.size() != 1) fail(*p, "expected one number, got " + std::to_string(p->numbers.size()));
     c.rgb = glm::dvec3(p->numbers[0]);
   } else if (p->type == "blackbody") {
-    if (p->numbers.size() != 1 || !(p->numbers[0] > 0)) fail(*p, "expected one positive temperature in kelvin");
+    if (p->numbers.size() != 1 || !(p->numbers[0] >= 500 && p->numbers[0] <= 1e6))
+      fail(*p, "expected one temperature in kelvin, in [500, 1e6] (a visible blackbody)");
     c.rgb = blackbodyRgb(p->numbers[0]);
     c.approximation = "a blackbody as its linear sRGB colour at luminance 1";
   } else if (!p->strings.empty()) {
@@ -257,7 +262,7 @@ std::optional<ColorValue> ParamSet::getColor(const std::string& name, bool illum
       c.rgb = s == "stdillum-A" ? blackbodyRgb(2856) : glm::dvec3(1);
       if (s != "stdillum-D65") c.approximation = "illuminant '" + s + "' as " + (s == "stdillum-A" ? "a 2856 K blackbody" : "white (D65)");
     } else {
-      fail(*p, "unknown named spectrum '" + s + "' (lightbench knows metal-{Au,Ag,Cu,Al}-{eta,k}, glass-{BK7,BAF10,FK51A,LASF9,F5}, stdillum-*)");
+      fail(*p, "unknown named spectrum '" + s + "' (lightbench knows metal-{Au,Ag,Cu,Al}-{eta,k}, glass-{BK7,BAF10,FK51A,LASF9,F5,F10,F11}, stdillum-*; not .spd files)");
     }
   } else if (p->numbers.size() == 1) {
     c.rgb = glm::dvec3(p->numbers[0]);  // a constant spectrum
@@ -281,6 +286,7 @@ std::optional<ColorValue> ParamSet::getColor(const std::string& name, bool illum
     c.rgb = glm::max(xyzToSrgb(illuminant ? xyz / std::max(xyz.y, 1e-300) : xyz / white.y), glm::dvec3(0));
     c.approximation = "a sampled spectrum as its linear sRGB colour";
   }
+  if (!std::isfinite(c.rgb.r + c.rgb.g + c.rgb.b)) fail(*p, "the colour is not finite");
   return c;
 }
 

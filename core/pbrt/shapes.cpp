@@ -134,7 +134,7 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     s["center"] = flowVec(point(ctm, glm::dvec3(0)));
     s["radius"] = r * scale;
     if (gs.reverseOrientation != mirrors) s["flip_normals"] = true;
-    area = 4 * kPi * r * scale * r * scale;
+    area = 4 * kPi * r * r;  // pbrt-v4's Sphere::Area: object space, the CTM's scale not included
   } else if (type == "disk") {
     double h = ps.getFloat("height", 0), r = ps.getFloat("radius", 1);
     if (!(r > 0)) ps.fail(*ps.find("radius"), "must be positive");
@@ -143,9 +143,12 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     glm::dmat4 m = ctm * glm::dmat4(glm::dvec4(r, 0, 0, 0), glm::dvec4(0, r, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, 0, h, 1));
     s["type"] = "disk";
     s["transform"]["matrix"] = rowMajor(m);
-    // A disk's normal is the transformed +z (pbrt-v4 Disk), turned over only by ReverseOrientation.
+    // pbrt-v4's Disk intersection flips its normal when ReverseOrientation and a
+    // mirroring CTM differ; lightbench's disk winding already turns over under a
+    // mirror, so only ReverseOrientation flips here. (pbrt-v4's Disk::Sample
+    // flips under ReverseOrientation alone: pbrt disagrees with itself under mirrors.)
     if (gs.reverseOrientation) s["flip_normals"] = true;
-    area = kPi * std::abs(glm::determinant(glm::dmat3(m)));
+    area = kPi * r * r;  // pbrt-v4's Disk::Area: object space
   } else {
     ps.markAllUsed();
     warn(at, "shape '" + type + "' not supported; dropped");
@@ -156,9 +159,18 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     if (!opaque) warn(at, "alpha masks not supported yet; the shape is opaque");
   }
   if (!gs.material.empty()) s["material"] = gs.material;
-  if (gs.areaLight) {
+  bool emits = bool(gs.areaLight);
+  if (emits && interfaceMaterials_.count(gs.material)) {
+    // pbrt-v4 (BasicScene::CreateLights) ignores an area light on a surface that is not there.
+    warn(at, "an area light on an interface material: pbrt ignores it, so the shape does not emit");
+    emits = false;
+  }
+  if (emits) {
     glm::dvec3 L = gs.areaLight->radiance;
     if (gs.areaLight->power > 0) {
+      // pbrt-v4 makes one light per triangle, each scaled to the full power.
+      if (size_t(s["indices"] ? s["indices"].size() / 3 : 0) > 1 || type == "plymesh")
+        warn(at, "power on a mesh: pbrt-v4 gives each triangle the whole power; lightbench spreads it over the mesh's area");
       // pbrt-v4 DiffuseAreaLight::Create: scale by power / (π · area · sides).
       double sides = gs.areaLight->twoSided ? 2 : 1;
       if (!(area > 0)) throw ConfigError(at.file, at.line, at.column, "power", "an emitter of zero area cannot have a power");
@@ -215,7 +227,9 @@ void Translator::lightSource(const std::string& type, const ParamSet& ps, const 
     if (double phi = ps.getFloat("power", -1); phi > 0) {
       // pbrt-v4 SpotLight::Create: the smoothstep cone's solid angle.
       double cosEnd = std::cos(glm::radians(cone)), cosStart = std::cos(glm::radians(start));
-      I *= phi / (2 * kPi * ((1 - cosStart) + (cosStart - cosEnd) / 2));
+      double solidAngle = 2 * kPi * ((1 - cosStart) + (cosStart - cosEnd) / 2);
+      if (!(solidAngle > 0)) throw ConfigError(at.file, at.line, at.column, "coneangle", "a cone too narrow to give a power to");
+      I *= phi / solidAngle;
     }
     if (glm::length(to - from) == 0) throw ConfigError(at.file, at.line, at.column, "", "\"to\" must differ from \"from\"");
     l["type"] = "spot";

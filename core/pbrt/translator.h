@@ -85,11 +85,14 @@ class Translator {
   std::vector<std::vector<int>> alsoLines_;
 
   GraphicsState gs_;
-  std::vector<GraphicsState> attributeStack_;
-  std::vector<glm::dmat4> transformStack_;  // TransformBegin/End (pbrt-v3)
+  // What AttributeBegin ('a'), TransformBegin ('t', pbrt-v3; pbrt-v4 reads it
+  // as AttributeBegin) and ObjectBegin ('o') saved: each End must match its Begin.
+  std::vector<std::pair<char, GraphicsState>> attributeStack_;
   std::map<std::string, glm::dmat4> namedCoordinateSystems_;
   std::map<std::string, std::string> namedMaterials_;  // pbrt name → lightbench name
   std::set<std::string> materialNames_;
+  std::set<std::string> interfaceMaterials_;
+  bool interfaceNext_ = false;  // set by material(): the material being added is an interface  // pbrt's interface/none: no surface, so no area light either
   std::map<std::string, YAML::Node> namedTextures_;  // textures read (imagemap, checkerboard)
   std::map<std::string, std::vector<ShapeRecord>> objects_;
   std::string currentObject_;  // inside ObjectBegin, else ""

@@ -345,6 +345,11 @@ TEST(PbrtImport, MalformedInputIsOneErrorAtFileLineAndColumn) {
        "'indices': index 3 is outside the 3 vertices"},
       {"WorldBegin\nInclude \"missing.pbrt\"\n", "2:9: cannot read"},
       {"WorldBegin\nAttributeBegin\n", "end of file inside AttributeBegin"},
+      // Found in review: an AttributeEnd popped ObjectBegin's state and ObjectEnd read an empty stack.
+      {"WorldBegin\nObjectBegin \"a\"\nAttributeEnd\nObjectEnd\n", "3:1: AttributeEnd where the innermost open block is ObjectBegin"},
+      {"WorldBegin\nObjectBegin \"a\"\nTransformBegin\nObjectEnd\n", "4:1: ObjectEnd inside an open"},
+      {"Scale 1e300 1 1\nScale 1e300 1 1\n", "2:1: Scale: the transformation matrix is no longer finite"},
+      {"WorldBegin\nLightSource \"point\" \"blackbody I\" 10\n", "in [500, 1e6]"},
   };
   for (const auto& [text, expected] : cases) {
     std::string e = pbrtErrorOf(text);
