@@ -9,7 +9,9 @@
 // what was done instead; the loader prints them, or fails on the first under
 // --strict.
 #include <yaml-cpp/yaml.h>
+#include <glm/glm.hpp>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +36,27 @@ struct ImportedScene {
   // estimator (the path length): they apply whichever integrator runs.
   std::vector<std::string> sharedIntegratorKeys;
 };
+
+// The warnings of one import, one per kind: a kind seen again adds its line
+// to the first one's message ("(also lines 12, 30)").
+class ImportWarnings {
+ public:
+  // `kind` groups warnings (e.g. the element's description); `element` is
+  // what the warning shows, which may add where it was (an included file).
+  void add(const std::string& kind, const std::string& element, int line, const std::string& message);
+  // In the order first seen, each with its other lines.
+  std::vector<ImportWarning> list() const;
+
+ private:
+  std::vector<ImportWarning> warnings_;
+  std::vector<std::vector<int>> alsoLines_;
+  std::map<std::pair<std::string, std::string>, size_t> index_;
+};
+
+// YAML values as both importers write them: a vec3 in flow style, and a 4×4
+// matrix row by row (lightbench's `transform: {matrix}`).
+YAML::Node flowVec(const glm::dvec3& v);
+YAML::Node rowMajor(const glm::dmat4& m);
 
 // True if `path` names a scene format an importer reads (.xml, .pbrt).
 bool isImportedScenePath(const std::string& path);

@@ -81,21 +81,6 @@ size_t firstUndefinedEntity(const std::string& text) {
 
 }  // namespace
 
-YAML::Node flowVec(const glm::dvec3& v) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  for (int i = 0; i < 3; ++i) n.push_back(v[i]);
-  return n;
-}
-
-YAML::Node rowMajor(const glm::dmat4& m) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  for (int row = 0; row < 4; ++row)
-    for (int col = 0; col < 4; ++col) n.push_back(m[col][row]);
-  return n;
-}
-
 MitsubaImport Translator::run() {
   pugi::xml_document doc;
   pugi::xml_parse_result parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);

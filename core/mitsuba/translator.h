@@ -13,10 +13,6 @@ namespace lb::mitsuba {
 // What Mitsuba's unlimited path length becomes (always with a warning).
 constexpr long kUnlimitedDepth = 100;
 
-YAML::Node flowVec(const glm::dvec3& v);
-// A 4x4 matrix as Mitsuba and lightbench's `transform: {matrix}` write it: row by row.
-YAML::Node rowMajor(const glm::dmat4& m);
-
 class Translator {
  public:
   Translator(std::string text, const std::string& path) : xml_(text, path), text_(std::move(text)) {}

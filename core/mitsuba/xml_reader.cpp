@@ -51,27 +51,11 @@ void XmlContext::fail(pugi::xml_node n, const std::string& key, const std::strin
 }
 
 void XmlContext::warn(pugi::xml_node n, const std::string& message) {
-  auto key = std::make_pair(describe(n), message);
-  auto it = warningIndex_.find(key);
-  if (it != warningIndex_.end()) {
-    alsoLines_[it->second].push_back(lineOf(n));
-    return;
-  }
-  warningIndex_[key] = warnings_.size();
-  warnings_.push_back({lineOf(n), describe(n), message});
-  alsoLines_.emplace_back();
+  warnings_.add(describe(n), describe(n), lineOf(n), message);
 }
 
 std::vector<ImportWarning> XmlContext::warnings() const {
-  std::vector<ImportWarning> out = warnings_;
-  for (size_t i = 0; i < out.size(); ++i) {
-    const std::vector<int>& also = alsoLines_[i];
-    if (also.empty()) continue;
-    std::string lines;
-    for (size_t k = 0; k < also.size() && k < 5; ++k) lines += (k ? ", " : "") + std::to_string(also[k]);
-    if (also.size() > 5) lines += " and " + std::to_string(also.size() - 5) + " more";
-    out[i].message += " (also line" + std::string(also.size() > 1 ? "s " : " ") + lines + ")";
-  }
+  std::vector<ImportWarning> out = warnings_.list();
   // In file order (an element's unread properties are found after its children).
   std::stable_sort(out.begin(), out.end(), [](const ImportWarning& a, const ImportWarning& b) { return a.line < b.line; });
   return out;

@@ -46,9 +46,7 @@ class XmlContext {
   std::string path_;
   std::vector<size_t> lineStarts_;
   std::vector<std::pair<std::string, std::string>> defaults_;  // longest name first
-  std::vector<ImportWarning> warnings_;
-  std::vector<std::vector<int>> alsoLines_;
-  std::map<std::pair<std::string, std::string>, size_t> warningIndex_;
+  ImportWarnings warnings_;
 };
 
 // The properties of one element (<float name=...>, <rgb>, <transform>, ...),

@@ -45,21 +45,6 @@ std::string inQuotes(const std::string& s) { return "\"" + s + "\""; }
 
 }  // namespace
 
-YAML::Node flowVec(const glm::dvec3& v) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  for (int i = 0; i < 3; ++i) n.push_back(v[i]);
-  return n;
-}
-
-YAML::Node rowMajor(const glm::dmat4& m) {
-  YAML::Node n(YAML::NodeType::Sequence);
-  n.SetStyle(YAML::EmitterStyle::Flow);
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) n.push_back(m[c][r]);
-  return n;
-}
-
 Translator::Translator(std::string mainPath) : mainPath_(std::move(mainPath)) {
   folder_ = std::filesystem::path(mainPath_).parent_path().string();
 }
@@ -67,14 +52,7 @@ Translator::Translator(std::string mainPath) : mainPath_(std::move(mainPath)) {
 void Translator::warn(const Where& at, const std::string& message) {
   std::string element = at.element;
   if (at.file != mainPath_) element += " (" + at.file + ":" + std::to_string(at.line) + ")";
-  auto key = std::make_pair(at.element, message);
-  if (auto it = warningIndex_.find(key); it != warningIndex_.end()) {
-    alsoLines_[it->second].push_back(at.mainLine);
-    return;
-  }
-  warningIndex_[key] = warnings_.size();
-  warnings_.push_back({at.mainLine, element, message});
-  alsoLines_.emplace_back();
+  warnings_.add(at.element, element, at.mainLine, message);
 }
 
 void Translator::warnUnused(const ParamSet& ps, const Where& at) {
@@ -103,15 +81,7 @@ ImportedScene Translator::run(const std::string& text) {
   root_["shapes"] = shapes_;
   if (lights_.size()) root_["lights"] = lights_;
   out_.scene = root_;
-  for (size_t i = 0; i < warnings_.size(); ++i) {
-    const std::vector<int>& also = alsoLines_[i];
-    if (also.empty()) continue;
-    std::string lines;
-    for (size_t k = 0; k < also.size() && k < 5; ++k) lines += (k ? ", " : "") + std::to_string(also[k]);
-    if (also.size() > 5) lines += " and " + std::to_string(also.size() - 5) + " more";
-    warnings_[i].message += " (also line" + std::string(also.size() > 1 ? "s " : " ") + lines + ")";
-  }
-  out_.warnings = warnings_;
+  out_.warnings = warnings_.list();
   return out_;
 }
 

@@ -46,8 +46,6 @@ struct ShapeRecord {
   Where at;
 };
 
-YAML::Node flowVec(const glm::dvec3& v);
-YAML::Node rowMajor(const glm::dmat4& m);
 
 class Translator {
  public:
@@ -80,9 +78,7 @@ class Translator {
 
   std::string mainPath_, folder_;
   ImportedScene out_;
-  std::vector<ImportWarning> warnings_;
-  std::map<std::pair<std::string, std::string>, size_t> warningIndex_;
-  std::vector<std::vector<int>> alsoLines_;
+  ImportWarnings warnings_;
 
   GraphicsState gs_;
   // What AttributeBegin ('a'), TransformBegin ('t', pbrt-v3; pbrt-v4 reads it
