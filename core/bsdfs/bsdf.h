@@ -7,7 +7,7 @@
 //  * the adjoint shading-normal correction for importance transport (Veach 1997,
 //    §5.3, Eq. 5.19): f*·|wo·ns||wi·ng| / (|wo·ng||wi·ns|), so integrators keep
 //    multiplying by |wi·ns| in both modes;
-//  * the material's texture at the hit's uv, a factor on f (material.h).
+//  * the material's texture at the hit's uv (material.h).
 #include "core/bsdfs/material.h"
 #include "core/interaction.h"
 #include "core/sampling.h"
@@ -40,19 +40,19 @@ class BSDF {
   BSDFEval eval(const Vec3& woWorld, const Vec3& wiWorld, TransportMode mode) const {
     Vec3 wo = frame_.toLocal(woWorld), wi = frame_.toLocal(wiWorld);
     if (leaks(woWorld, wo) || leaks(wiWorld, wi)) return {};
-    BSDFEval e = material_->eval(wo, wi, mode);
-    e.f *= texture_ * adjointCorrection(woWorld, wiWorld, wo, wi, mode);
+    BSDFEval e = material_->evalTextured(wo, wi, mode, texture_);
+    e.f *= adjointCorrection(woWorld, wiWorld, wo, wi, mode);
     return e;
   }
 
   std::optional<ScatterSample> sample(const Vec3& woWorld, float uLobe, Vec2 u, TransportMode mode) const {
     Vec3 wo = frame_.toLocal(woWorld);
     if (wo.z == 0 || leaks(woWorld, wo)) return std::nullopt;
-    auto s = material_->sample(wo, uLobe, u, mode);
+    auto s = material_->sampleTextured(wo, uLobe, u, mode, texture_);
     if (!s || s->pdf == 0) return std::nullopt;
     Vec3 wiWorld = frame_.toWorld(s->wi);
     if (leaks(wiWorld, s->wi)) return std::nullopt;
-    Color f = s->f * texture_ * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
+    Color f = s->f * adjointCorrection(woWorld, wiWorld, wo, s->wi, mode);
     return ScatterSample{wiWorld, f, f * absCosTheta(s->wi) / s->pdf, s->pdf, s->pdfRev, s->lobe, s->eta};
   }
 

@@ -34,8 +34,9 @@ class SmoothConductor final : public Material {
 
 class RoughConductor final : public Material {
  public:
-  RoughConductor(ConductorFresnel fresnel, float alpha, MicrofacetKind kind = MicrofacetKind::GGX)
-      : fresnel_(fresnel), mf_(alpha, kind) {}
+  RoughConductor(ConductorFresnel fresnel, float alpha, MicrofacetKind kind = MicrofacetKind::GGX,
+                 Masking masking = Masking::HeightCorrelated)
+      : fresnel_(fresnel), mf_(alpha, kind, masking) {}
 
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode) const override {
     if (!sameHemisphere(wo, wi) || wo.z == 0 || wi.z == 0) return {};

@@ -23,7 +23,9 @@ class SmoothDielectric final : public Material {
 
 class RoughDielectric final : public Material {
  public:
-  RoughDielectric(float eta, float alpha, MicrofacetKind kind = MicrofacetKind::GGX) : eta_(eta), mf_(alpha, kind) {}
+  RoughDielectric(float eta, float alpha, MicrofacetKind kind = MicrofacetKind::GGX,
+                  Masking masking = Masking::HeightCorrelated)
+      : eta_(eta), mf_(alpha, kind, masking) {}
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
   std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override;
   float pdf(const Vec3& wo, const Vec3& wi) const override;

@@ -15,10 +15,12 @@
 //  * In TransportMode::Importance, refraction does not scale by 1/η² (radiance
 //    does; Veach 1997 §5.2). The shading-normal adjoint correction is applied
 //    by the BSDF wrapper (bsdf.h), never by a material.
-//  * A material may carry a texture (core/textures/texture.h): f is scaled by
-//    its value at the hit's uv, again by the BSDF wrapper. Only quantities f
-//    is linear in are textured (diffuse albedo, conductor tint), so pdfs and
-//    sampling do not depend on it.
+//  * A material may carry a texture (core/textures/texture.h), evaluated at
+//    the hit's uv by the BSDF wrapper and passed to evalTextured() and
+//    sampleTextured(). By default f is scaled by it (diffuse albedo, conductor
+//    tint); a material where only one lobe is textured (plastic: its diffuse
+//    base) overrides both. Either way pdfs and sampling do not depend on the
+//    texture's value at the hit, so pdf() needs no uv.
 #include <memory>
 #include <optional>
 #include <string>
@@ -62,6 +64,20 @@ class Material {
   virtual std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const = 0;
   virtual float pdf(const Vec3& wo, const Vec3& wi) const = 0;
   virtual uint32_t flags() const = 0;
+
+  // eval() and sample() with the texture's value at the hit (1 where there is
+  // no texture). By default it is a factor on f.
+  virtual BSDFEval evalTextured(const Vec3& wo, const Vec3& wi, TransportMode mode, const Color& texture) const {
+    BSDFEval e = eval(wo, wi, mode);
+    e.f *= texture;
+    return e;
+  }
+  virtual std::optional<BSDFSample> sampleTextured(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode,
+                                                   const Color& texture) const {
+    auto s = sample(wo, uLobe, u, mode);
+    if (s) s->f *= texture;
+    return s;
+  }
 
   // Relative IOR crossed when transmitting from wo's side (1 for opaque materials).
   virtual float relativeEta(const Vec3& /*wo*/) const { return 1.f; }

@@ -2,6 +2,7 @@
 #include "core/bsdfs/conductor.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
+#include "core/bsdfs/plastic.h"
 #include "core/bsdfs/thin_dielectric.h"
 
 namespace lb {
@@ -28,10 +29,35 @@ float roughness(Params& p) {
 MicrofacetKind distribution(Params& p) {
   return p.getChoice("distribution", "ggx", {"ggx", "beckmann"}) == "ggx" ? MicrofacetKind::GGX : MicrofacetKind::Beckmann;
 }
+// Smith's masking: height-correlated (pbrt-v4's, the default) or separable
+// (Mitsuba's; core/bsdfs/microfacet.h).
+Masking masking(Params& p) {
+  return p.getChoice("masking", "height_correlated", {"height_correlated", "separable"}) == "separable"
+             ? Masking::Separable : Masking::HeightCorrelated;
+}
+float ior(Params& p, float fallback) {
+  float v = p.getFloat("ior", fallback);
+  if (!(v > 0)) p.fail("ior", "must be positive");
+  return v;
+}
 }  // namespace
 
 std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
-  std::string type = p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric", "thin_dielectric"});
+  std::string type =
+      p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric", "thin_dielectric", "plastic"});
+  // A texture scales f (material.h): the albedo of a diffuse or plastic
+  // surface (plastic's diffuse base only), the tint of a conductor. Elsewhere
+  // f is not linear in a colour we could texture.
+  const char* texturedKey = type == "conductor" ? "tint" : "albedo";
+  std::shared_ptr<const Texture> texture;
+  if (auto tp = p.getChild("texture")) {
+    if (type != "diffuse" && type != "conductor" && type != "plastic")
+      p.fail("texture", "only diffuse, plastic and conductor materials take a texture");
+    texture = makeTexture(*tp, folder);
+    Color base = p.getColor(texturedKey, Color(type == "conductor" ? 1.f : 0.5f));
+    if (glm::any(glm::greaterThan(texture->maxValue() * base, Color(1.f))))
+      p.fail("texture", "its values times the material's " + std::string(texturedKey) + " exceed 1 (energy conservation)");
+  }
   std::unique_ptr<Material> m;
   if (type == "diffuse") {
     m = std::make_unique<Diffuse>(reflectance(p, "albedo", Color(0.5f)));
@@ -47,33 +73,34 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
     }
     float alpha = roughness(p);
     MicrofacetKind kind = distribution(p);
+    Masking mask = masking(p);
     if (alpha < SmoothAlpha) m = std::make_unique<SmoothConductor>(fresnel);
-    else m = std::make_unique<RoughConductor>(fresnel, alpha, kind);
+    else m = std::make_unique<RoughConductor>(fresnel, alpha, kind, mask);
   } else if (type == "thin_dielectric") {
-    float ior = p.getFloat("ior", 1.5f);
-    if (ior <= 0) p.fail("ior", "must be positive");
-    m = std::make_unique<ThinDielectric>(ior);
+    m = std::make_unique<ThinDielectric>(ior(p, 1.5f));
+  } else if (type == "plastic") {
+    PlasticParams pp;
+    pp.diffuse = reflectance(p, "albedo", Color(0.5f));
+    pp.diffuseMean = texture ? pp.diffuse * texture->mean() : pp.diffuse;
+    pp.specular = reflectance(p, "specular", Color(1.f));
+    pp.eta = ior(p, 1.49f);
+    float alpha = roughness(p);
+    pp.alpha = alpha < SmoothAlpha ? 0.f : alpha;
+    pp.kind = distribution(p);
+    pp.masking = masking(p);
+    pp.nonlinear = p.getBool("nonlinear", false);
+    m = std::make_unique<Plastic>(pp);
   } else {
-    float ior = p.getFloat("ior", 1.5f);
-    if (ior <= 0) p.fail("ior", "must be positive");
+    float eta = ior(p, 1.5f);
     float alpha = roughness(p);
     MicrofacetKind kind = distribution(p);
+    Masking mask = masking(p);
     // An index-matched interface does not bend light: rough or not, it is a
     // straight pass-through, which only the smooth model represents.
-    if (alpha < SmoothAlpha || ior == 1.f) m = std::make_unique<SmoothDielectric>(ior);
-    else m = std::make_unique<RoughDielectric>(ior, alpha, kind);
+    if (alpha < SmoothAlpha || eta == 1.f) m = std::make_unique<SmoothDielectric>(eta);
+    else m = std::make_unique<RoughDielectric>(eta, alpha, kind, mask);
   }
-  // A texture scales f (material.h): the albedo of a diffuse surface, the tint
-  // of a conductor. Elsewhere f is not linear in a colour we could texture.
-  if (auto tp = p.getChild("texture")) {
-    if (type != "diffuse" && type != "conductor") p.fail("texture", "only diffuse and conductor materials take a texture");
-    auto texture = makeTexture(*tp, folder);
-    Color albedo = type == "diffuse" ? p.getColor("albedo", Color(0.5f)) : p.getColor("tint", Color(1.f));
-    if (glm::any(glm::greaterThan(texture->maxValue() * albedo, Color(1.f))))
-      p.fail("texture", "its values times the material's " + std::string(type == "diffuse" ? "albedo" : "tint") +
-                            " exceed 1 (energy conservation)");
-    m->setTexture(std::move(texture));
-  }
+  if (texture) m->setTexture(std::move(texture));
   p.checkUnused();
   return m;
 }

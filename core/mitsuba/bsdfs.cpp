@@ -30,8 +30,9 @@ double iorProperty(XmlContext& xml, Props& p, pugi::xml_node n, const std::strin
   return v;
 }
 
-// Mitsuba's microfacet roughness: its distribution (Beckmann by default) and
-// alpha, both of which lightbench has; anisotropic alphas are averaged.
+// Mitsuba's microfacet roughness: its distribution (Beckmann by default),
+// alpha and separable Smith masking, all of which lightbench has; anisotropic
+// alphas are averaged.
 void microfacet(XmlContext& xml, Props& p, pugi::xml_node n, YAML::Node& m) {
   std::string distribution = p.getString("distribution", "beckmann");
   double alpha = p.getFloat("alpha", 0.1);
@@ -45,6 +46,7 @@ void microfacet(XmlContext& xml, Props& p, pugi::xml_node n, YAML::Node& m) {
     xml.fail(n, "distribution", "expected ggx or beckmann, got '" + distribution + "'");
   m["roughness"] = alpha;
   m["distribution"] = distribution;
+  m["masking"] = "separable";
 }
 
 YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
@@ -97,6 +99,21 @@ YAML::Node dielectric(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   return m;
 }
 
+// plastic and roughplastic: core/bsdfs/plastic.h is Mitsuba's model.
+YAML::Node plastic(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
+  YAML::Node m(YAML::NodeType::Map);
+  m["type"] = "plastic";
+  double interior = iorProperty(xml, p, n, "int_ior", 1.49), exterior = iorProperty(xml, p, n, "ext_ior", 1.000277);
+  if (!(interior > 0) || !(exterior > 0)) xml.fail(n, "int_ior", "indices of refraction must be positive");
+  m["ior"] = interior / exterior;
+  m["albedo"] = flowVec(p.getColor("diffuse_reflectance", glm::dvec3(0.5)));
+  m["specular"] = flowVec(p.getColor("specular_reflectance", glm::dvec3(1.0)));
+  m["nonlinear"] = p.getBool("nonlinear", false);
+  if (rough) microfacet(xml, p, n, m);
+  else m["roughness"] = 0.0;
+  return m;
+}
+
 }  // namespace
 
 double namedIor(const std::string& name) {
@@ -142,13 +159,8 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided,
     m.remove("roughness");
     reflectsOnly = false;
   } else if (type == "plastic" || type == "roughplastic") {
-    // lightbench has no coated material yet: the diffuse base is kept.
-    xml.warn(n, "BSDF '" + type + "' is not supported; approximated as diffuse with its diffuse_reflectance (the specular coating is dropped)");
-    m = YAML::Node(YAML::NodeType::Map);
-    m["type"] = "diffuse";
-    m["albedo"] = flowVec(p.getColor("diffuse_reflectance", glm::dvec3(0.5)));
+    m = plastic(xml, p, n, type == "roughplastic");
     textured = "diffuse_reflectance";
-    p.takeAll();  // the coating's properties: said dropped above
   } else {
     xml.warn(n, "BSDF '" + type + "' not supported yet; approximated as diffuse with reflectance 0.5");
     p.takeAll();

@@ -168,10 +168,22 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     m["ior"] = ior("eta");
     if (type == "dielectric") roughness("");
   } else if (type == "coateddiffuse") {
-    warn(at, "the dielectric coating not supported yet; read as diffuse with its reflectance");
-    ps.markAllUsed();
-    m["type"] = "diffuse";
-    m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
+    // The same physical layers as Mitsuba's plastic (core/bsdfs/plastic.h),
+    // whose nonlinear form sums the base–coating inter-reflections in closed
+    // form where pbrt-v4's LayeredBxDF walks them stochastically.
+    warn(at, "coateddiffuse approximated by Mitsuba's plastic model (nonlinear inter-reflections in closed form, "
+             "not pbrt's stochastic layered walk; thickness, albedo and g of the layer ignored)");
+    m["type"] = "plastic";
+    if (refl && refl->type == "texture" && refl->strings.size() == 1 && namedTextures_.count(refl->strings[0])) {
+      m["albedo"] = 1.0;
+      m["texture"] = namedTextures_.at(refl->strings[0]);
+    } else {
+      m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
+    }
+    m["ior"] = ior("eta");
+    m["nonlinear"] = true;
+    roughness("");
+    for (const char* layer : {"thickness", "albedo", "g", "maxdepth", "nsamples"}) ps.find(layer);
   } else if (type == "coatedconductor") {
     warn(at, "the dielectric coating not supported yet; read as its conductor");
     conductor("conductor.");

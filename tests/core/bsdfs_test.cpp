@@ -8,6 +8,7 @@
 #include "core/bsdfs/conductor.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
+#include "core/bsdfs/plastic.h"
 #include "core/rng.h"
 #include "tests/support/statistics.h"
 
@@ -20,6 +21,13 @@ struct Case {
   std::string name;
   std::shared_ptr<Material> material;
 };
+
+PlasticParams roughPlastic(float alpha, MicrofacetKind kind, bool nonlinear) {
+  PlasticParams p;
+  p.diffuse = p.diffuseMean = Color(0.8f, 0.4f, 0.1f);
+  p.alpha = alpha, p.kind = kind, p.nonlinear = nonlinear;
+  return p;
+}
 
 std::vector<Case> glossyCases() {
   ConductorFresnel gold;
@@ -38,6 +46,12 @@ std::vector<Case> glossyCases() {
       {"beckmann conductor a=0.6", std::make_shared<RoughConductor>(ConductorFresnel{}, 0.6f, MicrofacetKind::Beckmann)},
       {"beckmann dielectric a=0.2 eta=1.5", std::make_shared<RoughDielectric>(1.5f, 0.2f, MicrofacetKind::Beckmann)},
       {"beckmann dielectric a=0.4 eta=1/1.33", std::make_shared<RoughDielectric>(1 / 1.33f, 0.4f, MicrofacetKind::Beckmann)},
+      {"separable beckmann conductor a=0.5",
+       std::make_shared<RoughConductor>(gold, 0.5f, MicrofacetKind::Beckmann, Masking::Separable)},
+      {"separable ggx dielectric a=0.3 eta=1.5",
+       std::make_shared<RoughDielectric>(1.5f, 0.3f, MicrofacetKind::GGX, Masking::Separable)},
+      {"rough plastic (Mitsuba's defaults, a=0.1)", std::make_shared<Plastic>(roughPlastic(0.1f, MicrofacetKind::Beckmann, false))},
+      {"rough plastic ggx a=0.4 nonlinear", std::make_shared<Plastic>(roughPlastic(0.4f, MicrofacetKind::GGX, true))},
   };
 }
 

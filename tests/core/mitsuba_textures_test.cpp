@@ -114,8 +114,13 @@ TEST(MitsubaTextures, ThinDielectricPlasticAndDisk) {
   EXPECT_EQ(t["type"].as<std::string>(), "thin_dielectric");
   EXPECT_NEAR(t["ior"].as<double>(), 1.3330 / 1.000277, 1e-12);  // water over Mitsuba's default air
   EXPECT_FALSE(t["roughness"]);
-  EXPECT_EQ(numbers(imp.scene["materials"]["p"]["albedo"]), (std::vector<double>{0.2, 0.3, 0.4}));
-  EXPECT_TRUE(warned(imp, "the specular coating is dropped"));
+  YAML::Node p = imp.scene["materials"]["p"];  // Mitsuba's model (core/bsdfs/plastic.h), its defaults
+  EXPECT_EQ(p["type"].as<std::string>(), "plastic");
+  EXPECT_EQ(numbers(p["albedo"]), (std::vector<double>{0.2, 0.3, 0.4}));
+  EXPECT_NEAR(p["ior"].as<double>(), 1.49 / 1.000277, 1e-12);  // polypropylene over air
+  EXPECT_EQ(p["roughness"].as<double>(), 0.0);
+  EXPECT_FALSE(p["nonlinear"].as<bool>());
+  EXPECT_FALSE(warned(imp, "coating"));  // only that it is one-sided in Mitsuba
   EXPECT_EQ(imp.scene["shapes"][0]["type"].as<std::string>(), "disk");
   EXPECT_TRUE(warned(imp, "256-sided polygon"));
 }
@@ -138,8 +143,8 @@ TEST(MitsubaTextures, SppmSettingsCarryOver) {
 namespace lb {
 namespace {
 
-// Booleans and colours among the properties the importer passes over (a
-// plastic's coating, a bitmap's storage settings) are accepted, not errors.
+// Booleans and colours among a plastic's properties and those the importer
+// passes over (a bitmap's storage settings) are accepted, not errors.
 TEST(MitsubaTextures, PropertiesPassedOverMayHaveAnyType) {
   MitsubaImport imp = importMitsubaXmlFromString(
       "<scene version=\"3.0.0\"><sensor type=\"perspective\"/>\n"
@@ -148,7 +153,14 @@ TEST(MitsubaTextures, PropertiesPassedOverMayHaveAnyType) {
       "<bsdf type=\"diffuse\" id=\"d\"><texture type=\"bitmap\" name=\"reflectance\">"
       "<string name=\"filename\" value=\"a.png\"/><boolean name=\"accel\" value=\"false\"/>"
       "<string name=\"format\" value=\"fp16\"/></texture></bsdf>\n</scene>\n", "test.xml");
-  EXPECT_EQ(imp.scene["materials"]["p"]["type"].as<std::string>(), "diffuse");
+  YAML::Node p = imp.scene["materials"]["p"];
+  EXPECT_EQ(p["type"].as<std::string>(), "plastic");
+  EXPECT_TRUE(p["nonlinear"].as<bool>());
+  EXPECT_EQ(numbers(p["specular"]), (std::vector<double>{0.5, 0.5, 0.5}));
+  // roughplastic's defaults: Beckmann, alpha 0.1, separable masking.
+  EXPECT_EQ(p["distribution"].as<std::string>(), "beckmann");
+  EXPECT_EQ(p["masking"].as<std::string>(), "separable");
+  EXPECT_NEAR(p["roughness"].as<double>(), 0.1, 1e-12);
   EXPECT_EQ(imp.scene["materials"]["d"]["texture"]["type"].as<std::string>(), "image");
 }
 

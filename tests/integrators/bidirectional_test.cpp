@@ -29,8 +29,7 @@ struct Case {
 // the red wall) only by chance. BDPT, which contains both, is the fair
 // reference for LT. max_depth 8 for all: long enough for the glass sphere's
 // caustic (L S S D E needs 4 segments) and several interreflections.
-void expectAgreement(const Case& c) {
-  SceneFile sf = loadShippedScene(c.scene, c.width, c.height);
+void expectAgreement(const SceneFile& sf, const Case& c) {
   auto pt = renderScene(sf, {"path", "{max_depth: 8}", c.pathSpp, 101});
   auto lt = renderScene(sf, {"light", "{max_depth: 8}", c.lightSpp, 102});
   auto bd = renderScene(sf, {"bdpt", "{max_depth: 8}", c.bdptSpp, 103});
@@ -41,12 +40,45 @@ void expectAgreement(const Case& c) {
       << c.scene << ": BDPT vs path tracing";
   EXPECT_EQ(lt->nonFiniteCount() + bd->nonFiniteCount(), 0u);
 }
+void expectAgreement(const Case& c) { expectAgreement(loadShippedScene(c.scene, c.width, c.height), c); }
 
 TEST(Bidirectional, AgreeOnDiffuseCornellBox) { expectAgreement({"cornell-box", 32, 32, 512, 512, 256}); }
 TEST(Bidirectional, AgreeOnCornellBoxWithMirrorAndGlassSpheres) {
   expectAgreement({"cornell-box-spheres", 32, 32, 1024, 512, 256});
 }
 TEST(Bidirectional, AgreeOnVeachMisScene) { expectAgreement({"veach-mis", 40, 25, 1024, 1024, 512}); }
+// Mitsuba's plastics (core/bsdfs/plastic.h) in the Cornell box: a smooth
+// coating (a delta lobe beside a diffuse one: light and BDPT connect to its
+// base, only sampling finds its mirror) on the left sphere, a rough nonlinear
+// one with separable masking on the right, and a checkerboard under a rough
+// coating on the floor (only the base is textured).
+TEST(Bidirectional, AgreeOnSmoothRoughAndTexturedPlastics) {
+  SceneFile sf = loadSceneFromString(
+      "camera: {position: [0, 1, 4.0], look_at: [0, 1, 0], fov: 36.5}\n"
+      "film: {width: 32, height: 32}\n"
+      "materials:\n"
+      "  white: {type: diffuse, albedo: 0.73}\n"
+      "  red: {type: diffuse, albedo: [0.65, 0.05, 0.05]}\n"
+      "  smooth: {type: plastic, albedo: [0.1, 0.3, 0.8]}\n"
+      "  rough: {type: plastic, albedo: [0.8, 0.4, 0.1], roughness: 0.2, distribution: beckmann,\n"
+      "          masking: separable, nonlinear: true}\n"
+      "  floor: {type: plastic, roughness: 0.3, albedo: 1,\n"
+      "          texture: {type: checkerboard, color0: 0.2, color1: 0.8, uv_transform: [4, 0, 0, 0, 4, 0]}}\n"
+      "shapes:\n"
+      "  - {type: rectangle, material: floor, transform: {rotate_x: -90}}\n"
+      "  - {type: rectangle, material: white, transform: {rotate_x: 90, translate: [0, 2, 0]}}\n"
+      "  - {type: rectangle, material: white, transform: {translate: [0, 1, -1]}}\n"
+      "  - {type: rectangle, material: red, transform: {rotate_y: 90, translate: [-1, 1, 0]}}\n"
+      "  - {type: rectangle, material: white, transform: {rotate_y: -90, translate: [1, 1, 0]}}\n"
+      "  - {type: rectangle, material: white, emission: [17, 12, 4],\n"
+      "     transform: {scale: [0.25, 0.2, 1], rotate_x: 90, translate: [0, 1.98, 0]}}\n"
+      "  - {type: sphere, material: smooth, center: [-0.42, 0.35, -0.35], radius: 0.35}\n"
+      "  - {type: sphere, material: rough, center: [0.42, 0.35, 0.3], radius: 0.35}\n"
+      "integrator: {name: path}\n",
+      "plastics.yaml");
+  expectAgreement(sf, {"plastics", 32, 32, 1024, 512, 256});
+}
+
 // With a point light the path tracer cannot sample paths whose last bounce
 // before the light is delta (L S … E: a mirror seen from the light); this
 // scene has no delta surface, so all three estimate the same image.
