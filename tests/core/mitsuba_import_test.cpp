@@ -297,10 +297,7 @@ void expectPathAndBdptAgree(const SceneFile& sf, const std::string& scene, uint6
   std::string params = "{max_depth: " + sf.integrator["max_depth"].as<std::string>() + "}";
   std::string failures;
   if (acrossSeeds) {
-    const int seeds = 8;
-    test::SeedMeans path = test::seedMeans(sf, {"path", params, spp / seeds}, seeds, 4, 4, 3);
-    test::SeedMeans bdpt = test::seedMeans(sf, {"bdpt", params, spp / 4 / seeds}, seeds, 4, 4, 1003);
-    failures = test::compareSeedMeans(path, bdpt, 1e-3, 4 * 4 * 3);
+    failures = test::pathBdptDisagreement(sf, spp, 1e-3);
   } else {
     test::RenderSpec spec;
     spec.params = params;

@@ -71,4 +71,11 @@ std::string compareSeedMeans(const SeedMeans& a, const SeedMeans& b, double alph
   return failures.str();
 }
 
+std::string pathBdptDisagreement(const SceneFile& sf, uint64_t pathSpp, double alpha, int seeds, int rx, int ry) {
+  std::string params = "{max_depth: " + sf.integrator["max_depth"].as<std::string>() + "}";
+  SeedMeans path = seedMeans(sf, {"path", params, pathSpp / uint64_t(seeds)}, seeds, rx, ry, 3);
+  SeedMeans bdpt = seedMeans(sf, {"bdpt", params, std::max<uint64_t>(1, pathSpp / 4 / uint64_t(seeds))}, seeds, rx, ry, 1003);
+  return compareSeedMeans(path, bdpt, alpha, rx * ry * 3);
+}
+
 }  // namespace lb::test

@@ -47,4 +47,13 @@ SeedMeans seedMeans(const SceneFile& scene, const IntegratorUnderTest& integrato
 std::string compareSeedMeans(const SeedMeans& a, const SeedMeans& b, double alpha, int comparisons,
                              double allowance = 0);
 
+// Path tracing and BDPT on one scene, at its own max_depth: the region means
+// of `seeds` renders of each (BDPT with a quarter of the samples), compared by
+// Welch's t on the seeds' spread (compareSeedMeans, Šidák over every region
+// and channel). For scenes whose samples are heavy-tailed (a glossy surface
+// reflecting a small light), where one render's own variance understates the
+// truth. Empty when they agree.
+std::string pathBdptDisagreement(const SceneFile& scene, uint64_t pathSpp, double alpha, int seeds = 8,
+                                 int regionsX = 4, int regionsY = 4);
+
 }  // namespace lb::test
