@@ -44,27 +44,36 @@ Quadrature gaussLegendre01(int n) {
   return q;
 }
 
-// The rough coating's directional albedo R(μ) = ∫ f_coat(wi, wo) cos θo dωo
-// for light arriving at cos θ = μ on an interface of relative index eta
-// (below 1: from inside), specular factor 1. The integral is taken in the
-// microfacet sampler's own unit square (u ↦ wo), where its integrand
-// f cos / p is smooth but for the horizon's cut, with an n × n Gauss rule.
-double coatingAlbedo(const Microfacet& mf, double mu, float eta, const Quadrature& q) {
+// The rough coating seen from a direction at cos θ = μ on an interface of
+// relative index eta (below 1: from inside), as Mitsuba 3 integrates it
+// (render/microfacet.h, eval_reflectance and eval_transmittance): over the
+// normals m the distribution shows that direction, the reflected share
+// F(wi·m)·G1(wo_r, m) and the refracted share (1 − F(wi·m))·G1(wo_t, m),
+// what leaves toward the base (single scattering: light the microsurface
+// masks is lost). Taken in the microfacet sampler's own unit square with an
+// n × n Gauss rule, weighted by the visible-normal density over the sampler's.
+struct CoatingShares {
+  double reflected = 0, transmitted = 0;
+};
+CoatingShares coatingShares(const Microfacet& mf, double mu, float eta, const Quadrature& q) {
   Vec3 wi(float(std::sqrt(std::max(0.0, 1 - mu * mu))), 0.f, float(mu));
-  double sum = 0;
+  CoatingShares out;
   for (size_t a = 0; a < q.x.size(); ++a)
     for (size_t b = 0; b < q.x.size(); ++b) {
       Vec3 m = mf.sampleNormal(wi, Vec2(float(q.x[a]), float(q.x[b])));
       float cosIM = glm::dot(wi, m);
-      if (cosIM <= 0) continue;
-      Vec3 wo = reflect(wi, m);
-      if (wo.z <= 0) continue;
-      double pdf = mf.pdfNormal(wi, m) / (4 * cosIM);
-      if (!(pdf > 0)) continue;
-      double fCos = double(mf.D(m)) * fresnelDielectric(cosIM, eta) * mf.G(wi, wo) / (4 * mu);
-      sum += q.w[a] * q.w[b] * fCos / pdf;
+      double pdf = mf.pdfNormal(wi, m);
+      if (cosIM <= 0 || !(pdf > 0)) continue;
+      // D_wi(m) = G1(wi) D(m) (wi·m) / cos θi (Heitz 2014, Eq. 2), over the sampler's density.
+      double visible = double(mf.G1(wi)) * mf.D(m) * cosIM / mu / pdf;
+      double w = q.w[a] * q.w[b] * visible;
+      float F = fresnelDielectric(cosIM, eta);
+      Vec3 wr = reflect(wi, m), wt;
+      if (wr.z > 0) out.reflected += w * F * mf.G1(wr);
+      float etap;
+      if (F < 1 && refract(wi, m, eta, &etap, &wt) && wt.z < 0) out.transmitted += w * (1 - F) * mf.G1(wt);
     }
-  return sum;
+  return out;
 }
 
 struct RoughTables {
@@ -72,19 +81,20 @@ struct RoughTables {
   float internalReflectance;
 };
 
+// Mitsuba 3's roughplastic (src/bsdfs/roughplastic.cpp): T at 64 values of μ
+// from 1e-6 to 1, and F_int = 2 · the mean over the same 64 μ of
+// R(μ; 1/η) · μ — its own rule for ∫ R 2μ dμ, kept so the two renderers'
+// bases agree (an exact integral is about 1.6 % larger).
 RoughTables computeRoughTables(const Microfacet& mf, float eta) {
   RoughTables t{};
-  Quadrature outside = gaussLegendre01(64);
+  Quadrature outside = gaussLegendre01(64), inside = gaussLegendre01(128);
+  double internal = 0;
   for (int k = 0; k < Plastic::TableSize; ++k) {
     double mu = std::max(1e-6, double(k) / (Plastic::TableSize - 1));
-    t.transmittance[size_t(k)] = float(glm::clamp(1 - coatingAlbedo(mf, mu, eta, outside), 0.0, 1.0));
+    t.transmittance[size_t(k)] = float(glm::clamp(coatingShares(mf, mu, eta, outside).transmitted, 0.0, 1.0));
+    internal += coatingShares(mf, mu, 1 / eta, inside).reflected * mu;
   }
-  // From inside, total internal reflection cuts the integrand: more nodes.
-  Quadrature overMu = gaussLegendre01(32), inside = gaussLegendre01(96);
-  double internal = 0;
-  for (size_t k = 0; k < overMu.x.size(); ++k)
-    internal += overMu.w[k] * 2 * overMu.x[k] * coatingAlbedo(mf, overMu.x[k], 1 / eta, inside);
-  t.internalReflectance = float(glm::clamp(internal, 0.0, 1.0));
+  t.internalReflectance = float(glm::clamp(2 * internal / Plastic::TableSize, 0.0, 1.0));
   return t;
 }
 

@@ -16,13 +16,16 @@
 // darkens and saturates colours as real wet or varnished surfaces do).
 //
 //  * Smooth coating: f_coat is a delta mirror reflection weighted by F(μo);
-//    T(μ) = 1 − F(μ); F_int is the fit of d'Eon and Irving (2011) to the
-//    hemispherical Fresnel average at 1/η (Mitsuba's fresnel_diffuse_reflectance).
+//    T(μ) = 1 − F(μ); F_int is Mitsuba's polynomial fit to the hemispherical
+//    Fresnel average at 1/η (fresnel_diffuse_reflectance; Egan & Hilgeman
+//    1973 for an argument below 1).
 //  * Rough coating: f_coat = D F G / (4 μo μi) (Walter et al. 2007), Beckmann
-//    or GGX with Mitsuba's separable Smith masking by default; T(μ) = 1 − the
-//    coating's directional albedo at μ, tabulated at 64 values of μ and
-//    interpolated linearly, and F_int = ∫ R(μ; 1/η) 2μ dμ, both by quadrature
-//    when the material is made (Mitsuba tabulates the same integrals).
+//    or GGX with Mitsuba's separable Smith masking by default. As Mitsuba 3
+//    computes them when the material is made (roughplastic.cpp, with
+//    render/microfacet.h's eval_transmittance and eval_reflectance): T(μ) is
+//    the share of light the rough interface refracts down, unmasked, at 64
+//    values of μ, interpolated linearly; F_int is 2 · the mean over those μ of
+//    R(μ; 1/η) · μ, R the interface's reflected share from inside.
 //
 // Sampling (Mitsuba's): the coating with probability ∝ F(μo)·w_s (rough:
 // (1 − T(μo))·w_s), the base (cosine-weighted) with ∝ (1 − F(μo))·(1 − w_s),
