@@ -19,7 +19,10 @@ inline Vec2 sampleConcentricDisk(Vec2 u) {
 // Malley's method: pdf cosθ/π on the +z hemisphere.
 inline Vec3 sampleCosineHemisphere(Vec2 u) {
   Vec2 d = sampleConcentricDisk(u);
-  return {d.x, d.y, safeSqrt(1 - d.x * d.x - d.y * d.y)};
+  // At the disc's rim x² + y² can round to 1: z = 0 would be a direction on
+  // the horizon, of density 0, drawn about once in 10⁷ samples. Lifted just
+  // above it instead, so every sample has the density it is drawn with.
+  return {d.x, d.y, std::max(safeSqrt(1 - d.x * d.x - d.y * d.y), 1e-7f)};
 }
 inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * InvPi : 0.f; }
 

@@ -3,6 +3,7 @@
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
 #include "core/bsdfs/plastic.h"
+#include "core/bsdfs/rough_diffuse.h"
 #include "core/bsdfs/thin_dielectric.h"
 
 namespace lb {
@@ -44,15 +45,15 @@ float ior(Params& p, float fallback) {
 
 std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
   std::string type =
-      p.getChoice("type", "diffuse", {"diffuse", "conductor", "dielectric", "thin_dielectric", "plastic"});
+      p.getChoice("type", "diffuse", {"diffuse", "rough_diffuse", "conductor", "dielectric", "thin_dielectric", "plastic"});
   // A texture scales f (material.h): the albedo of a diffuse or plastic
   // surface (plastic's diffuse base only), the tint of a conductor. Elsewhere
   // f is not linear in a colour we could texture.
   const char* texturedKey = type == "conductor" ? "tint" : "albedo";
   std::shared_ptr<const Texture> texture;
   if (auto tp = p.getChild("texture")) {
-    if (type != "diffuse" && type != "conductor" && type != "plastic")
-      p.fail("texture", "only diffuse, plastic and conductor materials take a texture");
+    if (type != "diffuse" && type != "rough_diffuse" && type != "conductor" && type != "plastic")
+      p.fail("texture", "only diffuse, rough_diffuse, plastic and conductor materials take a texture");
     texture = makeTexture(*tp, folder);
     Color base = p.getColor(texturedKey, Color(type == "conductor" ? 1.f : 0.5f));
     if (glm::any(glm::greaterThan(texture->maxValue() * base, Color(1.f))))
@@ -61,6 +62,11 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
   std::unique_ptr<Material> m;
   if (type == "diffuse") {
     m = std::make_unique<Diffuse>(reflectance(p, "albedo", Color(0.5f)));
+  } else if (type == "rough_diffuse") {
+    Color albedo = reflectance(p, "albedo", Color(0.5f));
+    float r = p.getFloat("roughness", 0.2f);
+    if (!(r >= 0)) p.fail("roughness", "must not be negative");
+    m = std::make_unique<RoughDiffuse>(albedo, r, p.getBool("fast_approximation", false));
   } else if (type == "conductor") {
     ConductorFresnel fresnel;
     fresnel.tint = reflectance(p, "tint", Color(1.f));

@@ -1,6 +1,7 @@
 #include "core/mitsuba/bsdfs.h"
 #include "core/bsdfs/named_conductors.h"
 #include "core/mitsuba/translator.h"
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -22,6 +23,11 @@ const std::map<std::string, double>& iorTable() {
   return table;
 }
 
+std::string lowercase(std::string s) {
+  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 double iorProperty(XmlContext& xml, Props& p, pugi::xml_node n, const std::string& name, double fallback) {
   if (!p.has(name)) return fallback;
   std::string text = p.getText(name, "");  // a <string> names it, a <float> gives it
@@ -34,7 +40,7 @@ double iorProperty(XmlContext& xml, Props& p, pugi::xml_node n, const std::strin
 // alpha and separable Smith masking, all of which lightbench has; anisotropic
 // alphas are averaged.
 void microfacet(XmlContext& xml, Props& p, pugi::xml_node n, YAML::Node& m) {
-  std::string distribution = p.getString("distribution", "beckmann");
+  std::string distribution = lowercase(p.getString("distribution", "beckmann"));  // Mitsuba lowercases it
   double alpha = p.getFloat("alpha", 0.1);
   if (p.has("alpha_u") || p.has("alpha_v")) {
     double u = p.getFloat("alpha_u", alpha), v = p.getFloat("alpha_v", alpha);
@@ -44,6 +50,10 @@ void microfacet(XmlContext& xml, Props& p, pugi::xml_node n, YAML::Node& m) {
   p.getBool("sample_visible", true);  // how it samples, not what it estimates
   if (distribution != "ggx" && distribution != "beckmann")
     xml.fail(n, "distribution", "expected ggx or beckmann, got '" + distribution + "'");
+  if (alpha > 1) {
+    xml.warn(n, "alpha above 1 clamped to 1 (lightbench's microfacet distributions stop there)");
+    alpha = 1;
+  }
   m["roughness"] = alpha;
   m["distribution"] = distribution;
   m["masking"] = "separable";
@@ -120,7 +130,7 @@ double namedIor(const std::string& name) {
   char* end = nullptr;
   double v = std::strtod(name.c_str(), &end);
   if (end != name.c_str() && *end == '\0') return std::isfinite(v) ? v : -1;
-  auto it = iorTable().find(name);
+  auto it = iorTable().find(lowercase(name));  // Mitsuba's lookup_ior lowercases
   return it == iorTable().end() ? -1 : it->second;
 }
 
@@ -158,6 +168,15 @@ YAML::Node translateBsdf(XmlContext& xml, pugi::xml_node n, bool twoSided,
     m["type"] = "thin_dielectric";
     m.remove("roughness");
     reflectsOnly = false;
+  } else if (type == "roughdiffuse") {
+    // Oren–Nayar as Mitsuba 0.6 evaluates it (core/bsdfs/rough_diffuse.h).
+    const char* key = p.has("diffuse_reflectance") || textures.count("diffuse_reflectance") ? "diffuse_reflectance" : "reflectance";
+    m = YAML::Node(YAML::NodeType::Map);
+    m["type"] = "rough_diffuse";
+    m["albedo"] = flowVec(p.getColor(key, glm::dvec3(0.5)));
+    m["roughness"] = p.getFloat("alpha", 0.2);
+    m["fast_approximation"] = p.getBool("use_fast_approx", false);
+    textured = key;
   } else if (type == "plastic" || type == "roughplastic") {
     m = plastic(xml, p, n, type == "roughplastic");
     textured = "diffuse_reflectance";

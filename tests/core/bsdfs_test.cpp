@@ -9,6 +9,7 @@
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
 #include "core/bsdfs/plastic.h"
+#include "core/bsdfs/rough_diffuse.h"
 #include "core/rng.h"
 #include "tests/support/statistics.h"
 
@@ -52,6 +53,8 @@ std::vector<Case> glossyCases() {
        std::make_shared<RoughDielectric>(1.5f, 0.3f, MicrofacetKind::GGX, Masking::Separable)},
       {"rough plastic (Mitsuba's defaults, a=0.1)", std::make_shared<Plastic>(roughPlastic(0.1f, MicrofacetKind::Beckmann, false))},
       {"rough plastic ggx a=0.4 nonlinear", std::make_shared<Plastic>(roughPlastic(0.4f, MicrofacetKind::GGX, true))},
+      {"rough diffuse a=0.5", std::make_shared<RoughDiffuse>(Color(0.9f, 0.5f, 0.2f), 0.5f)},
+      {"rough diffuse fast a=0.3", std::make_shared<RoughDiffuse>(Color(0.9f, 0.5f, 0.2f), 0.3f, true)},
   };
 }
 

@@ -125,6 +125,37 @@ TEST(MitsubaTextures, ThinDielectricPlasticAndDisk) {
   EXPECT_TRUE(warned(imp, "256-sided polygon"));
 }
 
+// roughdiffuse: Oren–Nayar with the file's reflectance (0.x: diffuseReflectance
+// too), alpha and useFastApprox, and Mitsuba's defaults (0.5, 0.2, full model).
+TEST(MitsubaTextures, RoughDiffuseKeepsItsReflectanceAndRoughness) {
+  MitsubaImport imp = import(xmlScene(
+      "<bsdf type=\"roughdiffuse\" id=\"pot\"><rgb name=\"diffuseReflectance\" value=\"0.1\"/>"
+      "<float name=\"alpha\" value=\"0.7\"/><boolean name=\"useFastApprox\" value=\"true\"/></bsdf>\n"
+      "<bsdf type=\"roughdiffuse\" id=\"plain\"/>\n", "0.5.0"));
+  YAML::Node pot = imp.scene["materials"]["pot"], plain = imp.scene["materials"]["plain"];
+  EXPECT_EQ(pot["type"].as<std::string>(), "rough_diffuse");
+  EXPECT_EQ(numbers(pot["albedo"]), (std::vector<double>{0.1, 0.1, 0.1}));
+  EXPECT_DOUBLE_EQ(pot["roughness"].as<double>(), 0.7);
+  EXPECT_TRUE(pot["fast_approximation"].as<bool>());
+  EXPECT_EQ(numbers(plain["albedo"]), (std::vector<double>{0.5, 0.5, 0.5}));
+  EXPECT_DOUBLE_EQ(plain["roughness"].as<double>(), 0.2);
+  EXPECT_FALSE(plain["fast_approximation"].as<bool>());
+  EXPECT_FALSE(warned(imp, "not supported"));
+}
+
+// As Mitsuba reads them: distribution and index names in any case; an alpha
+// above 1 (which Mitsuba allows) clamped with a warning, not refused.
+TEST(MitsubaTextures, NamesInAnyCaseAndAlphaAboveOne) {
+  MitsubaImport imp = import(xmlScene(
+      "<bsdf type=\"roughdielectric\" id=\"g\"><string name=\"distribution\" value=\"GGX\"/>"
+      "<string name=\"int_ior\" value=\"BK7\"/><float name=\"alpha\" value=\"1.5\"/></bsdf>\n"));
+  YAML::Node g = imp.scene["materials"]["g"];
+  EXPECT_EQ(g["distribution"].as<std::string>(), "ggx");
+  EXPECT_NEAR(g["ior"].as<double>(), 1.5046 / 1.000277, 1e-12);
+  EXPECT_DOUBLE_EQ(g["roughness"].as<double>(), 1.0);
+  EXPECT_TRUE(warned(imp, "alpha above 1 clamped"));
+}
+
 TEST(MitsubaTextures, SppmSettingsCarryOver) {
   MitsubaImport imp = import(xmlScene(
       "<integrator type=\"sppm\"><integer name=\"maxDepth\" value=\"9\"/><integer name=\"photonCount\" value=\"5000\"/>"
