@@ -248,9 +248,11 @@ TEST_F(BadExperiment, AReferenceWhoseVarianceOverflowsIsRefused) {
   EXPECT_NE(errorAt, std::string::npos) << err;
   EXPECT_TRUE(errorAt == 0 || err[errorAt - 1] == '\n') << err;
   EXPECT_EQ(err.find('\n', errorAt), err.size() - 1) << "the error is not the last line: " << err;
-  if (fs::exists(results / "references"))
-    for (const auto& f : fs::directory_iterator(results / "references"))
+  if (fs::exists(results / "references")) {
+    for (const auto& f : fs::directory_iterator(results / "references")) {
       EXPECT_NE(f.path().extension(), ".exr") << f.path();
+    }
+  }
 }
 
 // An unwritable --results used to fail with exit 1 and a filesystem error;
