@@ -95,12 +95,17 @@ YAML::Node conductor(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   return m;
 }
 
+// int_ior over ext_ior (air by default), as every Mitsuba dielectric interface reads them.
+double relativeIor(XmlContext& xml, Props& p, pugi::xml_node n, double interiorDefault) {
+  double interior = iorProperty(xml, p, n, "int_ior", interiorDefault), exterior = iorProperty(xml, p, n, "ext_ior", 1.000277);
+  if (!(interior > 0) || !(exterior > 0)) xml.fail(n, "int_ior", "indices of refraction must be positive");
+  return interior / exterior;
+}
+
 YAML::Node dielectric(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   YAML::Node m(YAML::NodeType::Map);
   m["type"] = "dielectric";
-  double interior = iorProperty(xml, p, n, "int_ior", 1.5046), exterior = iorProperty(xml, p, n, "ext_ior", 1.000277);
-  if (!(interior > 0) || !(exterior > 0)) xml.fail(n, "int_ior", "indices of refraction must be positive");
-  m["ior"] = interior / exterior;
+  m["ior"] = relativeIor(xml, p, n, 1.5046);  // bk7
   for (const char* tint : {"specular_reflectance", "specular_transmittance"})
     if (p.has(tint) && p.getColor(tint, glm::dvec3(1.0)) != glm::dvec3(1.0))
       xml.warn(n, std::string(tint) + " is not supported on dielectrics; dropped (untinted)");
@@ -113,9 +118,7 @@ YAML::Node dielectric(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
 YAML::Node plastic(XmlContext& xml, Props& p, pugi::xml_node n, bool rough) {
   YAML::Node m(YAML::NodeType::Map);
   m["type"] = "plastic";
-  double interior = iorProperty(xml, p, n, "int_ior", 1.49), exterior = iorProperty(xml, p, n, "ext_ior", 1.000277);
-  if (!(interior > 0) || !(exterior > 0)) xml.fail(n, "int_ior", "indices of refraction must be positive");
-  m["ior"] = interior / exterior;
+  m["ior"] = relativeIor(xml, p, n, 1.49);  // polypropylene
   m["albedo"] = flowVec(p.getColor("diffuse_reflectance", glm::dvec3(0.5)));
   m["specular"] = flowVec(p.getColor("specular_reflectance", glm::dvec3(1.0)));
   m["nonlinear"] = p.getBool("nonlinear", false);
