@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of tests/fuzz (clang, ASan + UBSan) and runs
-# each for SECONDS (default 60), one after another.
+# each for SECONDS (default 60), PARALLEL at a time.
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. bash scripts/fuzz.sh 1800
 # Environment: BUILD_DIR (default build-fuzz), JOBS (build jobs, default 1),
+# PARALLEL (targets fuzzed at once, default 1; each uses one core),
 # FUZZ_SEED (libFuzzer's -seed; default: from the clock; CI fixes it),
 # LIGHTBENCH_FUZZ_STRICT (default 1: for scene/experiment, an exception that is
 # not a ConfigError, i.e. a message without file:line:key, is a finding; 0
@@ -117,23 +118,26 @@ signature() {
   echo "${summary:-no report on rerun} @ ${top:-?} < ${project:-no project frame}"
 }
 
-status=0
-printf '\n%-16s %10s %8s %8s %9s\n' target execs exec/s corpus findings
-for t in "${TARGETS[@]}"; do
+# One target's run; its table row (and findings) go to fuzz-logs/TARGET.row,
+# a file TARGET.found marks findings.
+run_target() {
+  local t=$1
   make_seeds "$t"
-  corpus=$BUILD/fuzz-corpus/$t artifacts=$BUILD/fuzz-artifacts/$t log=$BUILD/fuzz-logs/$t.log
+  local corpus=$BUILD/fuzz-corpus/$t artifacts=$BUILD/fuzz-artifacts/$t log=$BUILD/fuzz-logs/$t.log
+  local row=$BUILD/fuzz-logs/$t.row
   # The targets' temp folders (and libFuzzer's fork folder) go here: a process
   # that crashes or is stopped at the time limit skips its atexit clean-up.
   export TMPDIR=$BUILD/fuzz-tmp/$t
-  rm -rf "$TMPDIR"
+  rm -rf "$TMPDIR" "$BUILD/fuzz-logs/$t.found"
   mkdir -p "$corpus" "$artifacts" "$(dirname "$log")" "$TMPDIR"
-  # -fork=1 with -ignore_*: one worker (the cores are shared) that carries on
-  # after a finding, so one run collects several. -close_fd_mask=3 hides the
-  # loaders' warnings; sanitizer reports still reach the log.
+  # -fork=1 with -ignore_*: one worker that carries on after a finding, so
+  # one run collects several. -close_fd_mask=3 hides the loaders' warnings;
+  # sanitizer reports still reach the log.
   "$BIN/$t" "$corpus" "$BUILD/fuzz-seeds/$t" "${SEED_FLAG[@]}" -fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1 \
     -max_total_time="$SECONDS_PER_TARGET" -max_len="${MAX_LEN[$t]}" -rss_limit_mb=2048 -timeout=10 \
     -close_fd_mask=3 -artifact_prefix="$artifacts/" >"$log" 2>&1 || true
   # Fork mode's status lines: "#RUNS: cov: .. corp: N exec/s: E oom/timeout/crash: ..".
+  local last execs rate ncorpus
   last=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 || true)
   execs=$(sed -E 's/^#([0-9]+):.*/\1/' <<<"$last")
   rate=$(sed -nE 's/.*exec\/s:? ([0-9]+).*/\1/p' <<<"$last")
@@ -141,14 +145,34 @@ for t in "${TARGETS[@]}"; do
   ncorpus=$(sed -nE 's/.*corp: ([0-9]+).*/\1/p' <<<"$last")
   mapfile -t found < <(find "$artifacts" -type f \( -name 'crash-*' -o -name 'timeout-*' -o -name 'oom-*' \
                          -o -name 'leak-*' -o -name 'slow-unit-*' \) | sort)
-  printf '%-16s %10s %8s %8s %9s\n' "$t" "${execs:-?}" "${rate:-?}" "${ncorpus:-?}" "${#found[@]}"
+  printf '%-16s %10s %8s %8s %9s\n' "$t" "${execs:-?}" "${rate:-?}" "${ncorpus:-?}" "${#found[@]}" >"$row"
   if ((${#found[@]})); then
-    status=1
+    touch "$BUILD/fuzz-logs/$t.found"
     # Distinct findings (artifacts of earlier runs included), with one example each.
     for f in "${found[@]:0:40}"; do echo "$(signature "$t" "$f")|$f"; done | sort -t'|' -k1,1 -u |
-      while IFS='|' read -r sig f; do echo "    $sig"; echo "      e.g. $f"; done
+      while IFS='|' read -r sig f; do echo "    $sig"; echo "      e.g. $f"; done >>"$row"
   fi
   rm -rf "$TMPDIR"
+}
+
+# PARALLEL targets at a time (default 1). Each libFuzzer run has one worker,
+# so on 2 cores CI runs two at once: every target still gets its full
+# SECONDS_PER_TARGET of one core, in half the wall time.
+PARALLEL=${PARALLEL:-1}
+mkdir -p "$BUILD/fuzz-logs"
+running=0
+for t in "${TARGETS[@]}"; do
+  if ((running >= PARALLEL)); then wait -n || true; running=$((running - 1)); fi
+  run_target "$t" &
+  running=$((running + 1))
+done
+wait
+
+status=0
+printf '\n%-16s %10s %8s %8s %9s\n' target execs exec/s corpus findings
+for t in "${TARGETS[@]}"; do
+  cat "$BUILD/fuzz-logs/$t.row" 2>/dev/null || { printf '%-16s did not report\n' "$t"; status=1; }
+  [[ -e "$BUILD/fuzz-logs/$t.found" ]] && status=1
 done
 echo
 echo "logs: $BUILD/fuzz-logs/  reproduce: $BIN/TARGET ARTIFACT"
