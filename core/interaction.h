@@ -16,6 +16,9 @@ struct SurfaceInteraction {
   Vec3 ng;
   Frame shading;
   Vec2 uv{0, 0};
+  // ∂p/∂u and ∂p/∂v of the surface's uv parametrisation: filled only where a
+  // material's normal or bump map needs them (Shape::surfaceTangents).
+  Vec3 dpdu{0.f}, dpdv{0.f};
   Vec3 wo;      // unit direction back along the incoming ray
   float t = 0;  // ray distance
   const Material* material = nullptr;

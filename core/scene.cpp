@@ -4,6 +4,7 @@
 #include <chrono>
 #include <stdexcept>
 #include "core/lights/area_light.h"
+#include "core/textures/surface_maps.h"
 
 namespace lb {
 
@@ -80,6 +81,29 @@ void sphereOccluded(const RTCOccludedFunctionNArguments* args) {
 
 }  // namespace
 
+// Embree's intersection and occlusion filter on a mesh whose material (or one
+// of its per-triangle materials) has an opacity: a candidate hit the mask lets
+// through is rejected, and Embree goes on to the next one
+// (core/textures/surface_maps.h).
+void Scene::opacityFilter(const RTCFilterFunctionNArguments* args) {
+  const auto& masked = *static_cast<const MaskedShape*>(args->geometryUserPtr);
+  const Shape& shape = *masked.shape;
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    int material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[prim];
+    if (material < 0) continue;
+    const Texture* opacity = masked.scene->materials_[size_t(material)]->surfaceMaps().opacity.get();
+    if (!opacity) continue;
+    Vec2 uv = shape.uvAt(int(prim), RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    RTCRayN* ray = args->ray;
+    Vec3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i));
+    Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i));
+    if (passesThrough(opacityOf(opacity->eval(uv)), o, d, RTCHitN_geomID(args->hit, args->N, i), prim))
+      args->valid[i] = 0;
+  }
+}
+
 Scene::Scene() {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("cannot create an Embree device");
@@ -94,6 +118,14 @@ Scene::~Scene() {
 void Scene::addShape(Shape shape, Emission emission) {
   shapes_.push_back(std::move(shape));
   emissions_.push_back(emission);
+}
+
+bool Scene::hasOpacity(const Shape& shape) const {
+  auto masked = [&](int m) { return m >= 0 && materials_[size_t(m)]->surfaceMaps().opacity; };
+  if (masked(shape.materialId)) return true;
+  for (int m : shape.triangleMaterials)
+    if (masked(m)) return true;
+  return false;
 }
 
 void Scene::build(LightSelection selection) {
@@ -120,6 +152,12 @@ void Scene::build(LightSelection selection) {
                                                                  3 * sizeof(unsigned), m.triangles.size()));
       for (size_t i = 0; i < m.triangles.size(); ++i)
         idx[3 * i] = m.triangles[i].x, idx[3 * i + 1] = m.triangles[i].y, idx[3 * i + 2] = m.triangles[i].z;
+    }
+    if (hasOpacity(shape)) {
+      if (shape.isSphere()) throw std::runtime_error("opacity is supported on meshes only, not on spheres");
+      rtcSetGeometryUserData(g, &maskedShapes_.emplace_back(MaskedShape{&shape, this}));
+      rtcSetGeometryIntersectFilterFunction(g, opacityFilter);
+      rtcSetGeometryOccludedFilterFunction(g, opacityFilter);
     }
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(rtcScene_, g, unsigned(id));
@@ -167,6 +205,10 @@ bool Scene::interaction(const Ray& ray, const RTCRayHit& rh, SurfaceInteraction&
   int material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
   si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
   si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
+  if (si.material && si.material->perturbsShading()) {
+    shape.surfaceTangents(si);
+    applyShadingMaps(*si.material, si);
+  }
   return true;
 }
 

@@ -3,6 +3,7 @@
 // scene loader (scene_loader.h) or by hand in tests, then finalised with build().
 #include <embree3/rtcore.h>
 #include <yaml-cpp/yaml.h>
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,6 +65,15 @@ class Scene {
   double buildSeconds() const { return buildSeconds_; }
 
  private:
+  // A mesh with an opacity, as its Embree filter sees it (stable addresses: a deque).
+  struct MaskedShape {
+    const Shape* shape;
+    const Scene* scene;
+  };
+  static void opacityFilter(const RTCFilterFunctionNArguments* args);
+  bool hasOpacity(const Shape& shape) const;
+  std::deque<MaskedShape> maskedShapes_;
+
   RTCDevice device_ = nullptr;
   RTCScene rtcScene_ = nullptr;
   std::vector<std::unique_ptr<Material>> materials_;

@@ -269,6 +269,15 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   p.checkUnused();
   shape.materialId = material;
   shape.triangleMaterials = std::move(triangleMaterials);
+  {
+    // Opacity is traced through Embree's triangle filter (core/scene.cpp),
+    // and an emitter's sampled points do not know of it.
+    bool masked = material >= 0 && scene.material(material).surfaceMaps().opacity;
+    for (int m : shape.triangleMaterials) masked |= m >= 0 && scene.material(m).surfaceMaps().opacity;
+    std::string key = p.has("material") ? "material" : "materials";
+    if (masked && shape.isSphere()) p.fail(key, "a material with an opacity is supported on meshes only, not on spheres");
+    if (masked && !isBlack(emission.radiance)) p.fail(key, "a material with an opacity cannot be on an emitter");
+  }
   if (!shape.isSphere() && !shape.triangleMesh().uvSeam.empty()) {
     bool textured = material >= 0 && scene.material(material).texture();
     for (int m : shape.triangleMaterials) textured |= m >= 0 && scene.material(m).texture();

@@ -168,8 +168,36 @@ void Shape::fillInteraction(const Ray& ray, float t, int prim, float u, float v,
     }
   }
   si.shading = Frame(ns);
-  if (!mesh_.uvs.empty()) si.uv = b0 * mesh_.uvs[tri.x] + u * mesh_.uvs[tri.y] + v * mesh_.uvs[tri.z];
-  else si.uv = Vec2(u, v);
+  si.uv = uvAt(prim, u, v);
+}
+
+Vec2 Shape::uvAt(int prim, float u, float v) const {
+  if (isSphere_ || mesh_.uvs.empty()) return Vec2(u, v);
+  const auto& tri = mesh_.triangles[size_t(prim)];
+  return (1 - u - v) * mesh_.uvs[tri.x] + u * mesh_.uvs[tri.y] + v * mesh_.uvs[tri.z];
+}
+
+void Shape::surfaceTangents(SurfaceInteraction& si) const {
+  if (isSphere_) {
+    // p = c + r (sin θ cos φ, sin θ sin φ, cos θ) with u = φ/2π, v = θ/π.
+    Vec3 d = glm::normalize(si.p - sphere_.center);
+    float sinTheta = std::sqrt(std::max(0.f, 1 - d.z * d.z));
+    float phi = std::atan2(d.y, d.x), cosPhi = std::cos(phi), sinPhi = std::sin(phi);
+    si.dpdu = 2 * Pi * sphere_.radius * Vec3(-sinTheta * sinPhi, sinTheta * cosPhi, 0);
+    si.dpdv = Pi * sphere_.radius * Vec3(d.z * cosPhi, d.z * sinPhi, -sinTheta);
+    return;
+  }
+  const auto& tri = mesh_.triangles[size_t(si.primId)];
+  const Vec3 &a = mesh_.positions[tri.x], &b = mesh_.positions[tri.y], &c = mesh_.positions[tri.z];
+  // Without uvs, (u, v) are the barycentrics of b and c: p = a + u (b - a) + v (c - a).
+  si.dpdu = b - a, si.dpdv = c - a;
+  if (mesh_.uvs.empty()) return;
+  Vec2 duv02 = mesh_.uvs[tri.x] - mesh_.uvs[tri.z], duv12 = mesh_.uvs[tri.y] - mesh_.uvs[tri.z];
+  Vec3 dp02 = a - c, dp12 = b - c;
+  float det = duv02.x * duv12.y - duv02.y * duv12.x;
+  if (std::abs(det) < 1e-12f) return;  // degenerate uvs: the edges stand in
+  si.dpdu = (duv12.y * dp02 - duv02.y * dp12) / det;
+  si.dpdv = (duv02.x * dp12 - duv12.x * dp02) / det;
 }
 
 }  // namespace lb

@@ -52,6 +52,12 @@ class Shape {
 
   // Fills geometric data of a hit on primitive `prim` at barycentrics (u, v).
   void fillInteraction(const Ray& ray, float t, int prim, float u, float v, SurfaceInteraction& si) const;
+  // The uv at barycentrics (u, v) of triangle `prim` (what fillInteraction sets).
+  Vec2 uvAt(int prim, float u, float v) const;
+  // Sets si.dpdu and si.dpdv at a hit fillInteraction made: from the
+  // triangle's uvs (pbrt-v4 §6.5.3), its edges where it has none, and the
+  // sphere's (φ/2π, θ/π) parametrisation.
+  void surfaceTangents(SurfaceInteraction& si) const;
 
   int materialId = -1;
   std::vector<int> triangleMaterials;  // per triangle (per-group materials), else empty: materialId

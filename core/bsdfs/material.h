@@ -82,6 +82,19 @@ class Material {
   // Relative IOR crossed when transmitting from wo's side (1 for opaque materials).
   virtual float relativeEta(const Vec3& /*wo*/) const { return 1.f; }
 
+  // Surface maps (core/textures/surface_maps.h): a tangent-space normal map
+  // or a bump map replaces the shading normal, an opacity below 1 lets rays
+  // pass the surface. Both are applied where hits are found (Scene), so
+  // every integrator, shadow ray and light subpath sees them alike; BSDFs
+  // never do.
+  struct SurfaceMaps {
+    std::shared_ptr<const Texture> normal, bump, opacity;
+    float bumpScale = 1;
+  };
+  void setSurfaceMaps(SurfaceMaps maps) { maps_ = std::move(maps); }
+  const SurfaceMaps& surfaceMaps() const { return maps_; }
+  bool perturbsShading() const { return maps_.normal || maps_.bump; }
+
   void setTexture(std::shared_ptr<const Texture> t) { texture_ = std::move(t); }
   Color textureAt(Vec2 uv) const { return texture_ ? texture_->eval(uv) : Color(1.f); }
   const Texture* texture() const { return texture_.get(); }
@@ -91,6 +104,7 @@ class Material {
 
  private:
   std::shared_ptr<const Texture> texture_;
+  SurfaceMaps maps_;
 };
 
 }  // namespace lb

@@ -41,6 +41,31 @@ float ior(Params& p, float fallback) {
   if (!(v > 0)) p.fail("ior", "must be positive");
   return v;
 }
+// `normal_map` (a texture read as linear RGB: give `srgb: false` to an
+// image), or `bump_map` with `bump_scale`, and `opacity` (a number in [0, 1]
+// or a texture); core/textures/surface_maps.h says what each does.
+Material::SurfaceMaps surfaceMaps(Params& p, const std::string& folder) {
+  Material::SurfaceMaps maps;
+  if (auto tp = p.getChild("normal_map")) maps.normal = makeTexture(*tp, folder);
+  if (auto tp = p.getChild("bump_map")) {
+    if (maps.normal) p.fail("bump_map", "a material takes a normal_map or a bump_map, not both");
+    maps.bump = makeTexture(*tp, folder);
+    maps.bumpScale = p.getFloat("bump_scale", 1.f);
+    if (!std::isfinite(maps.bumpScale)) p.fail("bump_scale", "must be finite");
+  } else if (p.has("bump_scale")) {
+    p.fail("bump_scale", "needs a bump_map");
+  }
+  if (p.node()["opacity"] && p.node()["opacity"].IsMap()) {
+    Params tp = *p.getChild("opacity");
+    maps.opacity = makeTexture(tp, folder);
+  } else if (p.has("opacity")) {
+    float a = p.getFloat("opacity", 1.f);
+    if (!(a >= 0 && a <= 1)) p.fail("opacity", "must be in [0, 1]");
+    if (a < 1) maps.opacity = std::make_shared<CheckerboardTexture>(Color(a), Color(a), std::array<float, 6>{1, 0, 0, 0, 1, 0});
+  }
+  return maps;
+}
+
 }  // namespace
 
 std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
@@ -107,6 +132,7 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
     else m = std::make_unique<RoughDielectric>(eta, alpha, kind, mask);
   }
   if (texture) m->setTexture(std::move(texture));
+  m->setSurfaceMaps(surfaceMaps(p, folder));
   p.checkUnused();
   return m;
 }

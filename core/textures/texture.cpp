@@ -40,6 +40,16 @@ Color ImageTexture::lookup(Vec2 uv) const {
          (1 - fx) * fy * texel(x0, y0 + 1) + fx * fy * texel(x0 + 1, y0 + 1);
 }
 
+Vec2 Texture::luminanceGradient(Vec2 uv) const {
+  // Half a texel in texture space, mapped back through the uv transform's
+  // largest scale so a magnified texture is not differenced across texels.
+  float scale = std::max({std::abs(m_[0]), std::abs(m_[1]), std::abs(m_[3]), std::abs(m_[4]), 1e-6f});
+  float h = 0.5f * texelSize() / scale;
+  float du = luminance(eval(uv + Vec2(h, 0))) - luminance(eval(uv - Vec2(h, 0)));
+  float dv = luminance(eval(uv + Vec2(0, h))) - luminance(eval(uv - Vec2(0, h)));
+  return Vec2(du, dv) / (2 * h);
+}
+
 Color CheckerboardTexture::lookup(Vec2 uv) const {
   auto cell = [](float t) { return t - std::floor(t) >= 0.5f; };
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return c1_;

@@ -10,6 +10,7 @@
 // texture repeats outside [0, 1)². OBJ files, whose vt has v = 0 at the
 // bottom, are flipped on load (core/mesh_io.cpp), as Mitsuba does. A 2 × 3 affine `uv_transform` [a b c; d e f] maps
 // the surface's uv to the texture's: u' = a u + b v + c, v' = d u + e v + f.
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <string>
@@ -29,9 +30,16 @@ class Texture {
   virtual Color maxValue() const = 0;
   // The average over one period: what an approximation by a constant uses.
   virtual Color mean() const = 0;
+  // The gradient of the value's luminance with respect to the surface's
+  // (u, v), by central differences half a texel wide (bump maps). Over a
+  // bilinear texel this is the exact derivative; across a texel edge it is
+  // the mean of the two slopes.
+  Vec2 luminanceGradient(Vec2 uv) const;
 
  protected:
   virtual Color lookup(Vec2 uv) const = 0;
+  // A texel's width in the texture's own (u, v); images override.
+  virtual float texelSize() const { return 1e-3f; }
 
  private:
   std::array<float, 6> m_;
@@ -47,6 +55,7 @@ class ImageTexture final : public Texture {
 
  private:
   Color lookup(Vec2 uv) const override;
+  float texelSize() const override { return 1.f / float(std::max(image_.width, image_.height)); }
   Color texel(int x, int y) const;
   Image image_;
   bool bilinear_;
