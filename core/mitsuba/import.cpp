@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include "core/error.h"
@@ -187,60 +188,90 @@ void Translator::registerId(pugi::xml_node n) {
 }
 
 namespace {
-// BSDFs that wrap another and change what lightbench does not model yet: the
-// shading normal (bumpmap, normalmap) or the surface's opacity (mask).
-bool isWrapper(const std::string& type) { return type == "bumpmap" || type == "normalmap" || type == "mask"; }
+// BSDFs that wrap another and add a surface map to it (Material::SurfaceMaps):
+// the map's texture, by the property each plugin names it.
+const std::map<std::string, std::pair<std::string, std::string>>& wrappers() {
+  static const std::map<std::string, std::pair<std::string, std::string>> w = {
+      {"bumpmap", {"map", "bump_map"}}, {"normalmap", {"normalmap", "normal_map"}}, {"mask", {"opacity", "opacity"}}};
+  return w;
+}
+bool isWrapper(const std::string& type) { return wrappers().count(type) > 0; }
 }  // namespace
 
-// A wrapper (isWrapper) is said once and its nested BSDF used in its place:
-// the wrapper's id and the nested one's both name that material.
-pugi::xml_node Translator::unwrapBsdf(pugi::xml_node n, std::vector<std::string>& ids) {
-  while (isWrapper(xml_.attr(n, "type"))) {
-    std::string type = xml_.attr(n, "type");
-    Props p(xml_, n);
-    p.takeAll();  // the map and its strength: said dropped below
-    pugi::xml_node nested;
-    for (pugi::xml_node o : p.objects)
-      if (std::string(o.name()) == "bsdf" && !nested) nested = o;
-    p.finish();
-    if (!nested) xml_.fail(n, "", "a " + type + " BSDF needs a nested <bsdf>");
-    xml_.warn(n, type == "mask" ? "opacity masks are not supported yet; the surface is opaque (its nested BSDF is used)"
-                                : type + " is not supported yet; its nested BSDF is used with the surface's own shading normal");
-    registerId(nested);
-    if (nested.attribute("id")) ids.push_back(xml_.attr(nested, "id"));
-    n = nested;
+// A wrapper (bumpmap, normalmap, mask) is the material it wraps with the map
+// added: a copy of that material's YAML with `bump_map`, `normal_map` or
+// `opacity`. A nested BSDF with an id of its own names the nested material
+// alone, without the map: a <ref> to it gets what Mitsuba's would (staircase's
+// bumpmap wraps a twosided BSDF that the shapes name, so they are not bumped).
+std::string Translator::readWrapper(pugi::xml_node n, bool twoSided) {
+  const std::string type = xml_.attr(n, "type");
+  const auto& [property, key] = wrappers().at(type);
+  Props p(xml_, n);
+  pugi::xml_node nested, map;
+  for (pugi::xml_node o : p.objects) {
+    std::string tag = o.name();
+    if (tag == "bsdf" && !nested) nested = o;
+    else if ((tag == "texture" || tag == "ref") && !map && (type == "bumpmap" || xml_.propertyName(o) == property)) map = o;
+    else xml_.warn(o, "not supported inside <bsdf type=\"" + type + "\">; dropped");
   }
-  return n;
+  if (!nested) xml_.fail(n, "", "a " + type + " BSDF needs a nested <bsdf>");
+  // Mitsuba 3's bumpmap scales the height's gradient; a mask may give its
+  // opacity as a number or a colour (its luminance).
+  double scale = type == "bumpmap" ? p.getFloat("scale", 1.0) : 1.0;
+  std::optional<glm::dvec3> uniformOpacity;
+  if (type == "mask" && p.has("opacity")) uniformOpacity = p.getColor("opacity", glm::dvec3(0.5));
+  p.finish();
+  YAML::Node m = YAML::Clone(materials_[readBsdf(nested, twoSided)]);
+  if (map) {
+    YAML::Node t = translateTexture(xml_, map, ids_);
+    if (t && !t.IsNull()) m[key] = t;
+  } else if (uniformOpacity) {
+    glm::dvec3 c = *uniformOpacity;
+    m["opacity"] = std::clamp(0.212671 * c.x + 0.715160 * c.y + 0.072169 * c.z, 0.0, 1.0);
+  } else if (type == "mask") {
+    m["opacity"] = 0.5;  // Mitsuba's default
+  } else {
+    xml_.fail(n, property, "a " + type + " BSDF needs a texture '" + property + "'");
+  }
+  if (type == "bumpmap" && scale != 1.0) m["bump_scale"] = scale;
+  return addMaterial(n, m);
 }
 
-// A named or inline BSDF becomes a material; returns its name.
-std::string Translator::readBsdf(pugi::xml_node n) {
-  registerId(n);
+// Names a translated BSDF (its id, or its line) and records it; errors in it
+// are reported at `origin` (default: n).
+std::string Translator::addMaterial(pugi::xml_node n, YAML::Node m, pugi::xml_node origin) {
   std::string id = n.attribute("id") ? xml_.attr(n, "id") : "";
-  std::vector<std::string> aliases;  // ids of BSDFs nested in wrappers: the same material
-  n = unwrapBsdf(n, aliases);
-  if (id.empty() && !aliases.empty()) id = aliases.front();  // a wrapper without an id: named as what it wraps
   std::string name = id.empty() || id == "none" || materialNames_.count(id) ? "bsdf@L" + std::to_string(xml_.lineOf(n)) : id;
   materialNames_.insert(name);
-  bool twoSided = xml_.attr(n, "type") == "twosided";
-  pugi::xml_node inner = n;
-  if (twoSided) {
-    Props p(xml_, n);
-    std::vector<pugi::xml_node> nested;
-    for (pugi::xml_node o : p.objects) {
-      if (std::string(o.name()) == "bsdf") nested.push_back(o);
-      else xml_.warn(o, "not supported inside <bsdf type=\"twosided\">; dropped");
-    }
-    p.finish();
-    if (nested.empty()) xml_.fail(n, "", "a twosided BSDF needs a nested <bsdf>");
-    if (nested.size() > 1) xml_.warn(nested[1], "a twosided BSDF's back-side BSDF is not supported; the front one is used on both sides");
-    inner = unwrapBsdf(nested[0], aliases);
-  }
-  materials_[name] = translateBsdf(xml_, inner, twoSided, ids_);
-  origin("materials." + name, inner);
+  materials_[name] = m;
+  this->origin("materials." + name, origin ? origin : n);
   if (!id.empty()) bsdfMaterial_[id] = name;
-  for (const std::string& alias : aliases) bsdfMaterial_[alias] = name;
   return name;
+}
+
+// A named or inline BSDF becomes a material; returns its name. `twoSided`:
+// it is nested in a twosided BSDF (said by the warning about one-sided ones).
+std::string Translator::readBsdf(pugi::xml_node n, bool twoSided) {
+  registerId(n);
+  if (isWrapper(xml_.attr(n, "type"))) return readWrapper(n, twoSided);
+  if (xml_.attr(n, "type") != "twosided") return addMaterial(n, translateBsdf(xml_, n, twoSided, ids_));
+  Props p(xml_, n);
+  std::vector<pugi::xml_node> nested;
+  for (pugi::xml_node o : p.objects) {
+    if (std::string(o.name()) == "bsdf") nested.push_back(o);
+    else xml_.warn(o, "not supported inside <bsdf type=\"twosided\">; dropped");
+  }
+  p.finish();
+  if (nested.empty()) xml_.fail(n, "", "a twosided BSDF needs a nested <bsdf>");
+  if (nested.size() > 1) xml_.warn(nested[1], "a twosided BSDF's back-side BSDF is not supported; the front one is used on both sides");
+  // A wrapper inside: its material is this one (lightbench's reflecting
+  // BSDFs are two-sided already), named by both ids.
+  if (isWrapper(xml_.attr(nested[0], "type"))) {
+    std::string name = readBsdf(nested[0], true);
+    if (n.attribute("id")) bsdfMaterial_[xml_.attr(n, "id")] = name;
+    return name;
+  }
+  return addMaterial(n, translateBsdf(xml_, nested[0], true, ids_), nested[0]);
 }
 
 void Translator::readShape(pugi::xml_node n) {

@@ -23,9 +23,10 @@ class Translator {
   void readSensor(pugi::xml_node n);
   void readSampler(pugi::xml_node n);
   void readFilm(pugi::xml_node n);
-  pugi::xml_node unwrapBsdf(pugi::xml_node n, std::vector<std::string>& ids);
   YAML::Node readFilter(pugi::xml_node rfilter);
-  std::string readBsdf(pugi::xml_node n);
+  std::string readBsdf(pugi::xml_node n, bool twoSided = false);
+  std::string readWrapper(pugi::xml_node n, bool twoSided);
+  std::string addMaterial(pugi::xml_node n, YAML::Node m, pugi::xml_node origin = {});
   void readShape(pugi::xml_node n);
   void readEmitter(pugi::xml_node n);
   void registerId(pugi::xml_node n);
