@@ -85,7 +85,6 @@ YAML::Node Translator::texture(const std::string& texClass, const std::string& t
     warn(at, "texture '" + type + "' not supported; materials that use it take their default value");
     return YAML::Node();
   }
-  if (texClass != "spectrum") warn(at, "float textures not used by lightbench's materials");
   YAML::Node m(YAML::NodeType::Sequence);
   m.SetStyle(YAML::EmitterStyle::Flow);
   // The checkerboard is not an image lookup: no flip of v.
@@ -150,8 +149,27 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     if (!(v > 0)) throw ConfigError(at.file, at.line, at.column, name, "an index of refraction must be positive");
     return v;
   };
-  if (const Param* p = ps.find("displacement")) warn(at, "parameter " + p->declaration() + " (bump mapping) not supported yet; ignored");
-  if (const Param* p = ps.find("normalmap")) warn(at, "parameter " + p->declaration() + " not supported yet; ignored");
+  // pbrt-v4's bump and normal maps (materials.h: BumpMap, NormalMap) as
+  // lightbench's (core/textures/surface_maps.h). The normal map is an image
+  // of linear values, looked up at (u, 1 − v) like an imagemap.
+  YAML::Node bump, normalMap;
+  if (const Param* p = ps.find("displacement")) {
+    if (p->type == "texture" && p->strings.size() == 1 && namedTextures_.count(p->strings[0]))
+      bump = namedTextures_.at(p->strings[0]);
+    else if (p->type != "float")
+      warn(at, "parameter " + p->declaration() + ": an unknown texture; ignored");
+    // A constant displacement moves the surface without turning it: nothing to do.
+  }
+  if (std::string file = ps.getString("normalmap", ""); !file.empty()) {
+    normalMap = YAML::Node(YAML::NodeType::Map);
+    normalMap["type"] = "image";
+    normalMap["file"] = file;
+    normalMap["srgb"] = false;
+    YAML::Node flip(YAML::NodeType::Sequence);
+    flip.SetStyle(YAML::EmitterStyle::Flow);
+    for (double x : {1.0, 0.0, 0.0, 0.0, -1.0, 1.0}) flip.push_back(x);
+    normalMap["uv_transform"] = flip;
+  }
   const Param* refl = ps.find("reflectance");
   if (type == "diffuse" && refl && refl->type == "texture" && refl->strings.size() == 1 &&
       namedTextures_.count(refl->strings[0])) {
@@ -204,6 +222,9 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     m["type"] = "diffuse";
     m["albedo"] = 0.5;
   }
+  // As pbrt-v4 (GetBSDF): a displacement wins over a normal map.
+  if (!bump.IsNull()) m["bump_map"] = bump;
+  else if (!normalMap.IsNull()) m["normal_map"] = normalMap;
   ps.find("type");
   warnUnused(ps, at);
   return m;

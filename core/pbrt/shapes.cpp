@@ -154,11 +154,34 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     warn(at, "shape '" + type + "' not supported; dropped");
     return;
   }
-  if (const Param* p = ps.find("alpha")) {
-    bool opaque = p->type == "float" && p->numbers.size() == 1 && p->numbers[0] == 1;
-    if (!opaque) warn(at, "alpha masks not supported yet; the shape is opaque");
-  }
   if (!gs.material.empty()) s["material"] = gs.material;
+  // pbrt-v4's alpha (a float or a float texture) is the shape's; lightbench's
+  // opacity is its material's: the shape gets a copy of its material with it.
+  if (const Param* p = ps.find("alpha")) {
+    YAML::Node opacity;
+    bool masked = false;
+    if (p->type == "float" && p->numbers.size() == 1 && p->numbers[0] < 1) {
+      opacity = std::max(0.0, p->numbers[0]);
+      masked = true;
+    } else if (p->type == "texture" && p->strings.size() == 1 && namedTextures_.count(p->strings[0])) {
+      opacity = YAML::Clone(namedTextures_.at(p->strings[0]));
+      masked = !opacity.IsNull();
+    } else if (p->type == "texture") {
+      warn(at, "alpha: an unknown texture; the shape is opaque");
+    }
+    if (masked && (gs.material.empty() || type == "sphere" || gs.areaLight)) {
+      warn(at, std::string("alpha on ") + (gs.material.empty() ? "a shape without a material" : gs.areaLight ? "an area light" : "a sphere") +
+                   " not supported; the shape is opaque");
+      masked = false;
+    }
+    if (masked) {
+      std::string name = gs.material + "@alpha" + std::to_string(at.line);
+      YAML::Node m = YAML::Clone(materials_[gs.material]);
+      m["opacity"] = opacity;
+      materials_[name] = m;
+      s["material"] = name;
+    }
+  }
   bool emits = bool(gs.areaLight);
   if (emits && interfaceMaterials_.count(gs.material)) {
     // pbrt-v4 (BasicScene::CreateLights) ignores an area light on a surface that is not there.

@@ -259,6 +259,46 @@ TEST(PbrtImport, MaterialsMapOntoLightbenchsWithPbrtsDefaults) {
   EXPECT_EQ(imp.scene["shapes"][0]["material"].as<std::string>(), "diffuse");
 }
 
+// pbrt-v4's bump map (a material's float "displacement" texture), normal map
+// (an image file of linear values, looked up at (u, 1 − v)) and alpha (the
+// shape's, a number or a float texture: a copy of its material with the
+// opacity, so other shapes of that material stay opaque).
+TEST(PbrtImport, DisplacementNormalMapsAndAlphaBecomeSurfaceMaps) {
+  ImportedScene imp = importPbrtSnippet(
+      "WorldBegin\n"
+      "Texture \"height\" \"float\" \"imagemap\" \"string filename\" \"h.exr\"\n"
+      "Texture \"cut\" \"float\" \"checkerboard\" \"float tex1\" 1 \"float tex2\" 0\n"
+      "MakeNamedMaterial \"bumpy\" \"string type\" \"diffuse\" \"texture displacement\" \"height\"\n"
+      "MakeNamedMaterial \"mapped\" \"string type\" \"conductor\" \"string normalmap\" \"n.png\"\n"
+      "MakeNamedMaterial \"leaf\" \"string type\" \"diffuse\"\n"
+      "NamedMaterial \"bumpy\"\n"
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
+      "NamedMaterial \"mapped\"\n"
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
+      "NamedMaterial \"leaf\"\n"
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"texture alpha\" \"cut\"\n"
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"float alpha\" 0.25\n"
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
+      "Shape \"sphere\" \"float alpha\" 0.5\n");
+  const YAML::Node& m = imp.scene["materials"];
+  const YAML::Node& shapes = imp.scene["shapes"];
+  auto of = [&](int i) { return m[shapes[i]["material"].as<std::string>()]; };
+  EXPECT_EQ(of(0)["bump_map"]["file"].as<std::string>(), "h.exr");
+  EXPECT_EQ(of(1)["normal_map"]["file"].as<std::string>(), "n.png");
+  EXPECT_FALSE(of(1)["normal_map"]["srgb"].as<bool>());
+  EXPECT_DOUBLE_EQ(of(1)["normal_map"]["uv_transform"][4].as<double>(), -1.0);  // v flipped, as pbrt's imagemap
+  EXPECT_DOUBLE_EQ(of(1)["normal_map"]["uv_transform"][5].as<double>(), 1.0);
+  EXPECT_EQ(of(2)["opacity"]["type"].as<std::string>(), "checkerboard");
+  EXPECT_EQ(of(2)["type"].as<std::string>(), "diffuse");
+  EXPECT_DOUBLE_EQ(of(3)["opacity"].as<double>(), 0.25);
+  EXPECT_FALSE(of(4)["opacity"]) << "the material itself stays opaque";
+  EXPECT_FALSE(of(5)["opacity"]) << "spheres take no opacity";
+  EXPECT_TRUE(hasWarning(imp, "alpha on a sphere not supported"));
+  EXPECT_FALSE(hasWarning(imp, "displacement"));
+  EXPECT_FALSE(hasWarning(imp, "normalmap"));
+  EXPECT_FALSE(hasWarning(imp, "float textures"));
+}
+
 TEST(PbrtImport, PixelFiltersAndSamplersMapWithPbrtsDefaults) {
   auto options = [](const std::string& lines) { return importPbrtSnippet(lines + "WorldBegin\n"); };
   YAML::Node f = options("PixelFilter \"triangle\" \"float xradius\" 1 \"float yradius\" 1\n").scene["film"]["filter"];
