@@ -54,12 +54,19 @@ float RoughDielectric::pdf(const Vec3& wo, const Vec3& wi) const {
   float etap;
   if (!halfVector(wo, wi, &wm, &etap)) return 0;
   float R = fresnelDielectric(glm::dot(wo, wm), eta_), T = 1 - R;
+  return lobePdf(wo, wi) * (cosTheta(wo) * cosTheta(wi) > 0 ? R : T);
+}
+
+float RoughDielectric::lobePdf(const Vec3& wo, const Vec3& wi) const {
+  Vec3 wm;
+  float etap;
+  if (!halfVector(wo, wi, &wm, &etap)) return 0;
   // The normal's density is symmetric in the sign of wo (sampling from below
   // mirrors the problem, pbrt-v4 §9.6.4).
   float pdfWm = mf_.pdfNormal(wo, wm);
-  if (cosTheta(wo) * cosTheta(wi) > 0) return pdfWm / (4 * absDot(wo, wm)) * R;
+  if (cosTheta(wo) * cosTheta(wi) > 0) return pdfWm / (4 * absDot(wo, wm));
   float denom = sqr(glm::dot(wi, wm) + glm::dot(wo, wm) / etap);
-  return pdfWm * absDot(wi, wm) / denom * T;
+  return pdfWm * absDot(wi, wm) / denom;
 }
 
 std::optional<BSDFSample> RoughDielectric::sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const {

@@ -29,6 +29,10 @@ class RoughDielectric final : public Material {
   BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override;
   std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override;
   float pdf(const Vec3& wo, const Vec3& wi) const override;
+  // pdf() without the Fresnel choice of reflection or refraction: the density
+  // of wi when sample() is told which of the two to take (a layered BSDF's
+  // walk, core/bsdfs/layered.h).
+  float lobePdf(const Vec3& wo, const Vec3& wi) const;
   uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFGlossy; }
   float relativeEta(const Vec3& wo) const override { return wo.z > 0 ? eta_ : 1 / eta_; }
 

@@ -1,7 +1,9 @@
 #include "core/bsdfs/material_factory.h"
 #include "core/bsdfs/conductor.h"
+#include "core/bsdfs/layered.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/diffuse.h"
+#include "core/bsdfs/named_conductors.h"
 #include "core/bsdfs/plastic.h"
 #include "core/bsdfs/rough_diffuse.h"
 #include "core/bsdfs/thin_dielectric.h"
@@ -70,17 +72,18 @@ Material::SurfaceMaps surfaceMaps(Params& p, const std::string& folder) {
 
 std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
   std::string type =
-      p.getChoice("type", "diffuse", {"diffuse", "rough_diffuse", "conductor", "dielectric", "thin_dielectric", "plastic"});
+      p.getChoice("type", "diffuse", {"diffuse", "rough_diffuse", "conductor", "dielectric", "thin_dielectric", "plastic",
+                                      "coated_diffuse", "coated_conductor"});
   // A texture scales f (material.h): the albedo of a diffuse or plastic
   // surface (plastic's diffuse base only), the tint of a conductor. Elsewhere
   // f is not linear in a colour we could texture.
-  const char* texturedKey = type == "conductor" ? "tint" : "albedo";
+  const char* texturedKey = type == "conductor" || type == "coated_conductor" ? "tint" : "albedo";
   std::shared_ptr<const Texture> texture;
   if (auto tp = p.getChild("texture")) {
-    if (type != "diffuse" && type != "rough_diffuse" && type != "conductor" && type != "plastic")
-      p.fail("texture", "only diffuse, rough_diffuse, plastic and conductor materials take a texture");
+    if (type == "dielectric" || type == "thin_dielectric")
+      p.fail("texture", "only diffuse, rough_diffuse, plastic, conductor and coated materials take a texture");
     texture = makeTexture(*tp, folder);
-    Color base = p.getColor(texturedKey, Color(type == "conductor" ? 1.f : 0.5f));
+    Color base = p.getColor(texturedKey, Color(type == "conductor" || type == "coated_conductor" ? 1.f : 0.5f));
     if (glm::any(glm::greaterThan(texture->maxValue() * base, Color(1.f))))
       p.fail("texture", "its values times the material's " + std::string(texturedKey) + " exceed 1 (energy conservation)");
   }
@@ -109,6 +112,37 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
     else m = std::make_unique<RoughConductor>(fresnel, alpha, kind, mask);
   } else if (type == "thin_dielectric") {
     m = std::make_unique<ThinDielectric>(ior(p, 1.5f));
+  } else if (type == "coated_diffuse" || type == "coated_conductor") {
+    // pbrt-v4's coateddiffuse and coatedconductor (core/bsdfs/layered.h).
+    LayeredParams lp;
+    lp.eta = ior(p, 1.5f);
+    float alpha = roughness(p);
+    lp.alpha = alpha < SmoothAlpha ? 0.f : alpha;
+    lp.kind = distribution(p);
+    lp.thickness = p.getFloat("thickness", 0.01f);
+    if (!(lp.thickness >= 0) || !std::isfinite(lp.thickness)) p.fail("thickness", "must be a finite number >= 0");
+    lp.maxDepth = p.getInt("max_depth", 10);
+    if (lp.maxDepth < 1 || lp.maxDepth > 1000) p.fail("max_depth", "must be in [1, 1000]");
+    lp.samples = p.getInt("samples", 1);
+    if (lp.samples < 1 || lp.samples > 1000) p.fail("samples", "must be in [1, 1000]");
+    std::unique_ptr<Material> base;
+    if (type == "coated_diffuse") {
+      base = std::make_unique<Diffuse>(reflectance(p, "albedo", Color(0.5f)));
+    } else {
+      ConductorFresnel fresnel;
+      fresnel.tint = reflectance(p, "tint", Color(1.f));
+      fresnel.complexIor = true;
+      const ComplexIor& copper = *namedConductor("Cu");  // pbrt-v4's default conductor
+      fresnel.eta = p.getColor("conductor_eta", Color(copper.eta));
+      fresnel.k = p.getColor("conductor_k", Color(copper.k));
+      if (glm::any(glm::lessThanEqual(fresnel.eta, Color(0.f)))) p.fail("conductor_eta", "must be positive");
+      if (glm::any(glm::lessThan(fresnel.k, Color(0.f)))) p.fail("conductor_k", "must not be negative");
+      float a = p.getFloat("conductor_roughness", 0.f);
+      if (!(a >= 0 && a <= 1)) p.fail("conductor_roughness", "must be in [0, 1]");
+      if (a < SmoothAlpha) base = std::make_unique<SmoothConductor>(fresnel);
+      else base = std::make_unique<RoughConductor>(fresnel, a, lp.kind);
+    }
+    m = std::make_unique<Layered>(lp, std::move(base));
   } else if (type == "plastic") {
     PlasticParams pp;
     pp.diffuse = reflectance(p, "albedo", Color(0.5f));
