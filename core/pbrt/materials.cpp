@@ -112,7 +112,7 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     return flowVec(c);
   };
   // GGX alpha from roughness (import.h); lightbench's microfacets are isotropic.
-  auto roughness = [&](const std::string& prefix) {
+  auto alphaOf = [&](const std::string& prefix) {
     double r = ps.getFloat(prefix + "roughness", 0);
     double u = ps.getFloat(prefix + "uroughness", r), v = ps.getFloat(prefix + "vroughness", r);
     if (u < 0 || v < 0) throw ConfigError(at.file, at.line, at.column, prefix + "roughness", "must not be negative");
@@ -123,7 +123,10 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
       warn(at, "a GGX alpha above 1 clamped to 1");
       alpha = 1;
     }
-    m["roughness"] = alpha;
+    return alpha;
+  };
+  auto roughness = [&](const std::string& prefix) {
+    m["roughness"] = alphaOf(prefix);
     m["distribution"] = "ggx";
   };
   auto conductor = [&](const std::string& prefix) {
@@ -185,27 +188,36 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
     m["type"] = type == "dielectric" ? "dielectric" : "thin_dielectric";
     m["ior"] = ior("eta");
     if (type == "dielectric") roughness("");
-  } else if (type == "coateddiffuse") {
-    // The same physical layers as Mitsuba's plastic (core/bsdfs/plastic.h),
-    // whose nonlinear form sums the base–coating inter-reflections in closed
-    // form where pbrt-v4's LayeredBxDF walks them stochastically.
-    warn(at, "coateddiffuse approximated by Mitsuba's plastic model (nonlinear inter-reflections in closed form, "
-             "not pbrt's stochastic layered walk; thickness, albedo and g of the layer ignored)");
-    m["type"] = "plastic";
-    if (refl && refl->type == "texture" && refl->strings.size() == 1 && namedTextures_.count(refl->strings[0])) {
+  } else if (type == "coateddiffuse" || type == "coatedconductor") {
+    // pbrt-v4's layered BSDFs, its random walks included (core/bsdfs/layered.h).
+    bool diffuse = type == "coateddiffuse";
+    std::string coat = diffuse ? "" : "interface.";
+    m["type"] = diffuse ? "coated_diffuse" : "coated_conductor";
+    m["ior"] = ior(coat + "eta");
+    roughness(coat);
+    if (diffuse && refl && refl->type == "texture" && refl->strings.size() == 1 && namedTextures_.count(refl->strings[0])) {
       m["albedo"] = 1.0;
       m["texture"] = namedTextures_.at(refl->strings[0]);
-    } else {
+    } else if (diffuse) {
       m["albedo"] = albedo("reflectance", glm::dvec3(0.5));
+    } else {
+      if (ps.has("reflectance")) {  // as conductor's artist-friendly form above
+        glm::dvec3 r = glm::clamp(color("reflectance", glm::dvec3(0)), 0.0, 0.9999);
+        m["conductor_eta"] = 1.0;
+        m["conductor_k"] = flowVec(2.0 * glm::sqrt(r) / glm::sqrt(1.0 - r));
+      } else {
+        m["conductor_eta"] = flowVec(color("conductor.eta", *namedSpectrum("metal-Cu-eta")));
+        m["conductor_k"] = flowVec(color("conductor.k", *namedSpectrum("metal-Cu-k")));
+      }
+      m["conductor_roughness"] = alphaOf("conductor.");
     }
-    m["ior"] = ior("eta");
-    m["nonlinear"] = true;
-    roughness("");
-    for (const char* layer : {"thickness", "albedo", "g", "maxdepth", "nsamples"}) ps.find(layer);
-  } else if (type == "coatedconductor") {
-    warn(at, "the dielectric coating not supported yet; read as its conductor");
-    conductor("conductor.");
-    ps.markAllUsed();
+    m["thickness"] = ps.getFloat("thickness", 0.01);
+    m["max_depth"] = ps.getInt("maxdepth", 10);
+    m["samples"] = ps.getInt("nsamples", 1);
+    glm::dvec3 layerAlbedo = color("albedo", glm::dvec3(0));
+    if (layerAlbedo != glm::dvec3(0))
+      warn(at, "a scattering medium between the layers (albedo, g) not supported; the layer only absorbs, as with albedo 0");
+    ps.find("g");
   } else if (type == "interface" || type == "none" || type.empty()) {
     interfaceNext_ = true;
     // No surface: rays pass straight through (a medium boundary in pbrt).

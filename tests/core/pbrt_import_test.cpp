@@ -234,6 +234,9 @@ TEST(PbrtImport, MaterialsMapOntoLightbenchsWithPbrtsDefaults) {
       "MakeNamedMaterial \"glass\" \"string type\" \"dielectric\" \"spectrum eta\" \"glass-BK7\"\n"
       "MakeNamedMaterial \"pane\" \"string type\" \"thindielectric\"\n"
       "MakeNamedMaterial \"plastic\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [ 0.2 0.3 0.4 ]\n"
+      "MakeNamedMaterial \"coated\" \"string type\" \"coatedconductor\" \"float interface.roughness\" 0.09 "
+      "\"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" \"float conductor.roughness\" 0.16 "
+      "\"float thickness\" 0.05 \"rgb albedo\" [0.5 0.5 0.5]\n"
       "Material \"diffuse\"\n"
       "Shape \"sphere\"\n");
   YAML::Node m = imp.scene["materials"];
@@ -248,13 +251,23 @@ TEST(PbrtImport, MaterialsMapOntoLightbenchsWithPbrtsDefaults) {
   EXPECT_DOUBLE_EQ(m["glass"]["ior"].as<double>(), 1.5168);
   EXPECT_EQ(m["pane"]["type"].as<std::string>(), "thin_dielectric");
   EXPECT_DOUBLE_EQ(m["pane"]["ior"].as<double>(), 1.5);
-  // coateddiffuse: Mitsuba's plastic model, pbrt's defaults (eta 1.5, a smooth coating), said approximate.
-  EXPECT_EQ(m["plastic"]["type"].as<std::string>(), "plastic");
+  // coateddiffuse: pbrt-v4's layered BSDF with its defaults (eta 1.5, a
+  // smooth coating, thickness 0.01, 10 bounces, 1 sample).
+  EXPECT_EQ(m["plastic"]["type"].as<std::string>(), "coated_diffuse");
   EXPECT_DOUBLE_EQ(m["plastic"]["albedo"][2].as<double>(), 0.4);
   EXPECT_DOUBLE_EQ(m["plastic"]["ior"].as<double>(), 1.5);
   EXPECT_DOUBLE_EQ(m["plastic"]["roughness"].as<double>(), 0.0);
-  EXPECT_TRUE(m["plastic"]["nonlinear"].as<bool>());
-  EXPECT_TRUE(hasWarning(imp, "stochastic layered walk"));
+  EXPECT_DOUBLE_EQ(m["plastic"]["thickness"].as<double>(), 0.01);
+  EXPECT_EQ(m["plastic"]["max_depth"].as<int>(), 10);
+  EXPECT_EQ(m["plastic"]["samples"].as<int>(), 1);
+  EXPECT_FALSE(hasWarning(imp, "coateddiffuse"));
+  // coatedconductor: its interface. and conductor. parameters, both roughnesses remapped.
+  EXPECT_EQ(m["coated"]["type"].as<std::string>(), "coated_conductor");
+  EXPECT_DOUBLE_EQ(m["coated"]["roughness"].as<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(m["coated"]["conductor_roughness"].as<double>(), 0.4);
+  EXPECT_DOUBLE_EQ(m["coated"]["thickness"].as<double>(), 0.05);
+  EXPECT_NE(m["coated"]["conductor_eta"][1].as<float>(), 0.924033f) << "gold's, not the default copper's";
+  EXPECT_TRUE(hasWarning(imp, "scattering medium between the layers"));
   EXPECT_DOUBLE_EQ(m["diffuse"]["albedo"][0].as<double>(), 0.5);
   EXPECT_EQ(imp.scene["shapes"][0]["material"].as<std::string>(), "diffuse");
 }
