@@ -145,7 +145,7 @@ template <typename F>
 double adaptive(const F& f, double z0, double z1, double p0, double p1, int depth, int minDepth = 1) {
   if (minDepth <= 0) {
     double coarse = midpoint(f, z0, z1, p0, p1, 4), fine = midpoint(f, z0, z1, p0, p1, 8);
-    if (depth == 0 || std::abs(fine - coarse) <= 1e-5 * std::abs(fine) + 1e-12 * (z1 - z0) * (p1 - p0)) return fine;
+    if (depth == 0 || std::abs(fine - coarse) <= 1e-4 * std::abs(fine) + 1e-12 * (z1 - z0) * (p1 - p0)) return fine;
   }
   double zm = 0.5 * (z0 + z1), pm = 0.5 * (p0 + p1);
   return adaptive(f, z0, zm, p0, pm, depth - 1, minDepth - 1) + adaptive(f, zm, z1, p0, pm, depth - 1, minDepth - 1) +
