@@ -68,7 +68,7 @@ PhotonMap buildPhotonMap(const Scene& scene, uint64_t seed, size_t paths, int ma
   uint64_t traced = tracePhotons(scene, seed, causticOnly ? 1 : 0, paths, maxBounces, [&](size_t c, const PhotonHit& h) {
     if (causticOnly && !h.specularChain) return;
     perChunk[c].push_back({h.si->p, h.wi, h.beta / float(paths), h.si->ng, h.bounces + 1});
-  }, progress);
+  }, progress, causticOnly);
   if (rays) *rays = traced;
   std::vector<Photon> all;
   for (auto& c : perChunk) all.insert(all.end(), c.begin(), c.end());  // chunk order: deterministic

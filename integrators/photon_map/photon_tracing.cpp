@@ -36,7 +36,8 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
 }
 
 uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
-                      const std::function<void(size_t, const PhotonHit&)>& visit, Progress* progress) {
+                      const std::function<void(size_t, const PhotonHit&)>& visit, Progress* progress,
+                      bool specularChainsOnly) {
   const LightSampler& lights = scene.lightSampler();
   if (lights.empty() || paths == 0) return 0;
   size_t chunks = (paths + PhotonPathsPerChunk - 1) / PhotonPathsPerChunk;
@@ -64,6 +65,7 @@ uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t p
           auto bs = bsdf.sample(si.wo, uLobe, uDir, TransportMode::Importance);
           if (!bs) break;
           specularChain = specularChain && bs->isDelta();
+          if (specularChainsOnly && !specularChain) break;
           float survive = std::min(1.f, maxComponent(bs->weight));
           if (sampler.get1D() >= survive) break;
           beta *= bs->weight / survive;

@@ -43,8 +43,12 @@ NonSpecularHit traceToNonSpecular(const Scene& scene, Ray ray, Sampler& sampler,
 // (path i uses random numbers seeded by (seed, i, pass)). Returns the number
 // of rays traced. maxBounces bounds the surface interactions per path, so
 // photons travel at most maxBounces segments.
-// `progress`, if given, advances by one per path.
+// `progress`, if given, advances by one per path. With `specularChainsOnly`
+// a path ends once its chain of delta bounces breaks: a caustic map stores
+// nothing after that, and the paths' random numbers are their own, so the
+// photons it keeps are the same.
 uint64_t tracePhotons(const Scene& scene, uint64_t seed, uint64_t pass, size_t paths, int maxBounces,
-                      const std::function<void(size_t chunk, const PhotonHit&)>& visit, Progress* progress = nullptr);
+                      const std::function<void(size_t chunk, const PhotonHit&)>& visit, Progress* progress = nullptr,
+                      bool specularChainsOnly = false);
 
 }  // namespace lb
