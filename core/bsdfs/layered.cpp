@@ -73,11 +73,14 @@ Layered::Layered(const LayeredParams& params, std::unique_ptr<Material> base) : 
 
 Layered::~Layered() = default;
 
+// Unlike pbrt-v4's flags, a rough coating is Glossy even over a diffuse
+// base: lightbench's integrators read Diffuse alone as Lambertian (the
+// irradiance cache shades such a hit with f(wo, n)·E), which this is not.
 uint32_t Layered::flags() const {
   uint32_t f = BSDFReflection;
   if (coating_->isDelta()) f |= BSDFSpecular;
   if (base_->flags() & BSDFDiffuse) f |= BSDFDiffuse;
-  else if (!coating_->isDelta() || !base_->isDelta()) f |= BSDFGlossy;
+  if (!coating_->isDelta() || !(base_->flags() & BSDFDiffuse || base_->isDelta())) f |= BSDFGlossy;
   return f;
 }
 
@@ -131,7 +134,7 @@ Color Layered::f(Vec3 wo, Vec3 wi, TransportMode mode, const Color& texture) con
         // Its MIS partner is the presampled wis, which reaches the layer's
         // direction -w from wi: that density is pdf(wi → -w). pbrt-v4 uses
         // pdf(-w → wi), which differs for a rough refraction, so its two
-        // weights do not sum to one and its f is off (7 % low for a
+        // weights do not sum to one and its f is off (7 % high for a
         // coating of alpha 0.3 over a diffuse base; Layered test
         // SampledWeightsAverageToTheIntegralOfEvaluatedF fails with it).
         Color fExit = top.f(-w, wi, mode);

@@ -137,6 +137,10 @@ std::unique_ptr<Material> makeMaterial(Params& p, const std::string& folder) {
       fresnel.k = p.getColor("conductor_k", Color(copper.k));
       if (glm::any(glm::lessThanEqual(fresnel.eta, Color(0.f)))) p.fail("conductor_eta", "must be positive");
       if (glm::any(glm::lessThan(fresnel.k, Color(0.f)))) p.fail("conductor_k", "must not be negative");
+      // The metal lies under the coating: its Fresnel sees the index relative
+      // to the coating's (pbrt-v4's CoatedConductorMaterial divides likewise).
+      fresnel.eta /= lp.eta;
+      fresnel.k /= lp.eta;
       float a = p.getFloat("conductor_roughness", 0.f);
       if (!(a >= 0 && a <= 1)) p.fail("conductor_roughness", "must be in [0, 1]");
       if (a < SmoothAlpha) base = std::make_unique<SmoothConductor>(fresnel);

@@ -207,21 +207,47 @@ std::string Translator::readWrapper(pugi::xml_node n, bool twoSided) {
   const std::string type = xml_.attr(n, "type");
   const auto& [property, key] = wrappers().at(type);
   Props p(xml_, n);
-  pugi::xml_node nested, map;
+  pugi::xml_node nested, nestedRef, map;
   for (pugi::xml_node o : p.objects) {
     std::string tag = o.name();
-    if (tag == "bsdf" && !nested) nested = o;
-    else if ((tag == "texture" || tag == "ref") && !map && (type == "bumpmap" || xml_.propertyName(o) == property)) map = o;
+    // A <ref> names the nested BSDF (one read before) or the map.
+    bool refToBsdf = tag == "ref" && ids_.count(xml_.attr(o, "id")) &&
+                     std::string(ids_.at(xml_.attr(o, "id")).name()) == "bsdf";
+    if ((tag == "bsdf" || refToBsdf) && !nested && !nestedRef) (tag == "bsdf" ? nested : nestedRef) = o;
+    else if ((tag == "texture" || tag == "ref") && !refToBsdf && !map && (type == "bumpmap" || xml_.propertyName(o) == property)) map = o;
     else xml_.warn(o, "not supported inside <bsdf type=\"" + type + "\">; dropped");
   }
-  if (!nested) xml_.fail(n, "", "a " + type + " BSDF needs a nested <bsdf>");
+  if (!nested && !nestedRef) xml_.fail(n, "", "a " + type + " BSDF needs a nested <bsdf>");
+  std::string inner;
+  if (nestedRef) {
+    auto it = bsdfMaterial_.find(xml_.attr(nestedRef, "id"));
+    if (it == bsdfMaterial_.end())
+      xml_.fail(nestedRef, "id", "a " + type + " refers to a BSDF defined after it; define that BSDF first");
+    inner = it->second;
+  }
   // Mitsuba 3's bumpmap scales the height's gradient; a mask may give its
   // opacity as a number or a colour (its luminance).
   double scale = type == "bumpmap" ? p.getFloat("scale", 1.0) : 1.0;
   std::optional<glm::dvec3> uniformOpacity;
   if (type == "mask" && p.has("opacity")) uniformOpacity = p.getColor("opacity", glm::dvec3(0.5));
   p.finish();
-  YAML::Node m = YAML::Clone(materials_[readBsdf(nested, twoSided)]);
+  if (nested) inner = readBsdf(nested, twoSided);
+  YAML::Node m = YAML::Clone(materials_[inner]);
+  // Nothing else can name an anonymous nested BSDF: only this wrapper's copy stays.
+  bool named = false;
+  for (const auto& [id, material] : bsdfMaterial_) named |= material == inner;
+  if (!named) {
+    materials_.remove(inner);
+    materialNames_.erase(inner);
+  }
+  // lightbench takes one of a normal and a bump map; Mitsuba applies both.
+  for (const char* other : {"bump_map", "normal_map"})
+    if (key != "opacity" && key != other && static_cast<const YAML::Node&>(m)[other]) {
+      xml_.warn(n, std::string("a ") + type + " around a " + (std::string(other) == "bump_map" ? "bumpmap" : "normalmap") +
+                       ": only the outer map is applied");
+      m.remove(other);
+      m.remove("bump_scale");
+    }
   if (map) {
     YAML::Node t = translateTexture(xml_, map, ids_);
     if (t && !t.IsNull()) m[key] = t;

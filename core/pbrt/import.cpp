@@ -304,7 +304,8 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     at.element = "Texture " + inQuotes(texName) + " " + inQuotes(texType);
     ParamSet ps = ParamSet::parse(tokens);
     YAML::Node t = texture(texClass, texType, ps, at);
-    if (t) namedTextures_[texName] = t;
+    // pbrt-v4 keeps float and spectrum textures apart: one name may be both.
+    if (!t.IsNull()) (texClass == "float" ? namedFloatTextures_ : namedTextures_)[texName] = t;
   } else if (name == "LightSource") {
     needWorld(true);
     notInObject();

@@ -157,8 +157,8 @@ YAML::Node Translator::material(const std::string& type, const ParamSet& ps, con
   // of linear values, looked up at (u, 1 − v) like an imagemap.
   YAML::Node bump, normalMap;
   if (const Param* p = ps.find("displacement")) {
-    if (p->type == "texture" && p->strings.size() == 1 && namedTextures_.count(p->strings[0]))
-      bump = namedTextures_.at(p->strings[0]);
+    if (p->type == "texture" && p->strings.size() == 1 && namedFloatTextures_.count(p->strings[0]))
+      bump = namedFloatTextures_.at(p->strings[0]);
     else if (p->type != "float")
       warn(at, "parameter " + p->declaration() + ": an unknown texture; ignored");
     // A constant displacement moves the surface without turning it: nothing to do.

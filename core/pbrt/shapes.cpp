@@ -159,26 +159,30 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
   // opacity is its material's: the shape gets a copy of its material with it.
   if (const Param* p = ps.find("alpha")) {
     YAML::Node opacity;
-    bool masked = false;
+    std::string key;  // the alpha, as the name of the material's copy
     if (p->type == "float" && p->numbers.size() == 1 && p->numbers[0] < 1) {
       opacity = std::max(0.0, p->numbers[0]);
-      masked = true;
-    } else if (p->type == "texture" && p->strings.size() == 1 && namedTextures_.count(p->strings[0])) {
-      opacity = YAML::Clone(namedTextures_.at(p->strings[0]));
-      masked = !opacity.IsNull();
+      key = std::to_string(opacity.as<double>());
+    } else if (p->type == "texture" && p->strings.size() == 1 && namedFloatTextures_.count(p->strings[0])) {
+      opacity = YAML::Clone(namedFloatTextures_.at(p->strings[0]));
+      key = "texture " + p->strings[0];
     } else if (p->type == "texture") {
-      warn(at, "alpha: an unknown texture; the shape is opaque");
+      warn(at, "alpha: an unknown float texture; the shape is opaque");
     }
-    if (masked && (gs.material.empty() || type == "sphere" || gs.areaLight)) {
+    if (!key.empty() && (gs.material.empty() || type == "sphere" || gs.areaLight)) {
       warn(at, std::string("alpha on ") + (gs.material.empty() ? "a shape without a material" : gs.areaLight ? "an area light" : "a sphere") +
                    " not supported; the shape is opaque");
-      masked = false;
+      key.clear();
     }
-    if (masked) {
-      std::string name = gs.material + "@alpha" + std::to_string(at.line);
-      YAML::Node m = YAML::Clone(materials_[gs.material]);
-      m["opacity"] = opacity;
-      materials_[name] = m;
+    if (!key.empty()) {
+      // One copy per (material, alpha), shared by every shape that asks for it.
+      std::string& name = alphaMaterials_[gs.material + "\n" + key];
+      if (name.empty()) {
+        YAML::Node m = YAML::Clone(materials_[gs.material]);
+        m["opacity"] = opacity;
+        interfaceNext_ = interfaceMaterials_.count(gs.material) > 0;
+        name = addMaterial(gs.material + "@alpha", m);
+      }
       s["material"] = name;
     }
   }

@@ -89,7 +89,9 @@ class Translator {
   std::set<std::string> materialNames_;
   std::set<std::string> interfaceMaterials_;
   bool interfaceNext_ = false;  // set by material(): the material being added is an interface  // pbrt's interface/none: no surface, so no area light either
-  std::map<std::string, YAML::Node> namedTextures_;  // textures read (imagemap, checkerboard)
+  std::map<std::string, YAML::Node> namedTextures_;       // spectrum textures read (imagemap, checkerboard)
+  std::map<std::string, YAML::Node> namedFloatTextures_;  // float ones (displacement, alpha)
+  std::map<std::string, std::string> alphaMaterials_;     // (material, alpha) → its copy with that opacity
   std::map<std::string, std::vector<ShapeRecord>> objects_;
   std::string currentObject_;  // inside ObjectBegin, else ""
   bool inWorld_ = false, cameraSeen_ = false, filmSeen_ = false, samplerSeen_ = false, filterSeen_ = false,

@@ -114,6 +114,33 @@ TEST(MitsubaReferences, NormalMapsScaledBumpMapsAndTexturedMasksImport) {
   EXPECT_EQ(all.find("one-sided"), std::string::npos) << "the mask's diffuse is inside a twosided BSDF: " << all;
 }
 
+// A <ref> may name a wrapper's BSDF; a normal map around a bump map keeps the
+// outer (lightbench takes one); an anonymous nested BSDF leaves no material
+// of its own behind.
+TEST(MitsubaReferences, WrappersTakeARefAndKeepOneShadingMap) {
+  MitsubaImport imp = import(xmlScene(
+      "<bsdf type=\"dielectric\" id=\"glass\"/>\n"
+      "<bsdf type=\"bumpmap\" id=\"bumpy\">\n"
+      "  <texture type=\"bitmap\"><string name=\"filename\" value=\"h.png\"/></texture>\n"
+      "  <ref id=\"glass\"/>\n"
+      "</bsdf>\n"
+      "<bsdf type=\"normalmap\" id=\"both\">\n"
+      "  <texture name=\"normalmap\" type=\"bitmap\"><string name=\"filename\" value=\"n.png\"/></texture>\n"
+      "  <bsdf type=\"bumpmap\"><texture type=\"bitmap\"><string name=\"filename\" value=\"h.png\"/></texture>\n"
+      "    <bsdf type=\"dielectric\"/></bsdf>\n"
+      "</bsdf>\n"
+      "<shape type=\"rectangle\"><ref id=\"bumpy\"/></shape>\n"
+      "<shape type=\"rectangle\"><ref id=\"both\"/></shape>\n"));
+  const YAML::Node& materials = imp.scene["materials"];
+  auto of = [&](int shape) { return materials[imp.scene["shapes"][shape]["material"].as<std::string>()]; };
+  EXPECT_EQ(of(0)["type"].as<std::string>(), "dielectric");
+  EXPECT_EQ(of(0)["bump_map"]["file"].as<std::string>(), "h.png");
+  EXPECT_EQ(of(1)["normal_map"]["file"].as<std::string>(), "n.png");
+  EXPECT_FALSE(of(1)["bump_map"]);
+  EXPECT_NE(allWarnings(imp).find("only the outer map is applied"), std::string::npos) << allWarnings(imp);
+  EXPECT_EQ(materials.size(), 3u) << "glass, bumpy and both; no anonymous leftovers";
+}
+
 // Mitsuba 0.6's conductor divides eta and k by the exterior's index.
 TEST(MitsubaReferences, ExtEtaDividesTheConductorsIndices) {
   MitsubaImport imp = import(xmlScene(

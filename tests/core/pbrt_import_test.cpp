@@ -292,7 +292,9 @@ TEST(PbrtImport, DisplacementNormalMapsAndAlphaBecomeSurfaceMaps) {
       "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"texture alpha\" \"cut\"\n"
       "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"float alpha\" 0.25\n"
       "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0]\n"
-      "Shape \"sphere\" \"float alpha\" 0.5\n");
+      "Shape \"sphere\" \"float alpha\" 0.5\n"
+      "Texture \"height\" \"spectrum\" \"imagemap\" \"string filename\" \"colour.png\"\n"  // its own namespace
+      "Shape \"bilinearmesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] \"texture alpha\" \"cut\"\n");
   const YAML::Node& m = imp.scene["materials"];
   const YAML::Node& shapes = imp.scene["shapes"];
   auto of = [&](int i) { return m[shapes[i]["material"].as<std::string>()]; };
@@ -307,6 +309,7 @@ TEST(PbrtImport, DisplacementNormalMapsAndAlphaBecomeSurfaceMaps) {
   EXPECT_FALSE(of(4)["opacity"]) << "the material itself stays opaque";
   EXPECT_FALSE(of(5)["opacity"]) << "spheres take no opacity";
   EXPECT_TRUE(hasWarning(imp, "alpha on a sphere not supported"));
+  EXPECT_EQ(shapes[6]["material"].as<std::string>(), shapes[2]["material"].as<std::string>()) << "one copy per (material, alpha)";
   EXPECT_FALSE(hasWarning(imp, "displacement"));
   EXPECT_FALSE(hasWarning(imp, "normalmap"));
   EXPECT_FALSE(hasWarning(imp, "float textures"));
