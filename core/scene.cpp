@@ -112,6 +112,8 @@ Scene::Scene() {
 
 Scene::~Scene() {
   if (rtcScene_) rtcReleaseScene(rtcScene_);
+  for (auto& object : objects_)
+    if (object->rtc) rtcReleaseScene(object->rtc);
   if (device_) rtcReleaseDevice(device_);
 }
 
@@ -128,38 +130,73 @@ bool Scene::hasOpacity(const Shape& shape) const {
   return false;
 }
 
+RTCGeometry Scene::newGeometry(Shape& shape) {
+  RTCGeometry g;
+  if (shape.isSphere()) {
+    g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(g, 1);
+    rtcSetGeometryUserData(g, const_cast<Sphere*>(&shape.sphereData()));
+    rtcSetGeometryBoundsFunction(g, sphereBounds, nullptr);
+    rtcSetGeometryIntersectFunction(g, sphereIntersect);
+    rtcSetGeometryOccludedFunction(g, sphereOccluded);
+  } else {
+    const TriangleMesh& m = shape.triangleMesh();
+    g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), m.positions.size()));
+    for (size_t i = 0; i < m.positions.size(); ++i)
+      v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), m.triangles.size()));
+    for (size_t i = 0; i < m.triangles.size(); ++i)
+      idx[3 * i] = m.triangles[i].x, idx[3 * i + 1] = m.triangles[i].y, idx[3 * i + 2] = m.triangles[i].z;
+  }
+  if (hasOpacity(shape)) {
+    if (shape.isSphere()) throw std::runtime_error("opacity is supported on meshes only, not on spheres");
+    rtcSetGeometryUserData(g, &maskedShapes_.emplace_back(MaskedShape{&shape, this}));
+    rtcSetGeometryIntersectFilterFunction(g, opacityFilter);
+    rtcSetGeometryOccludedFilterFunction(g, opacityFilter);
+  }
+  rtcCommitGeometry(g);
+  return g;
+}
+
+namespace {
+
+void commitForTracing(RTCScene scene) {
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  // Watertight traversal: without it, rays aimed exactly at a vertex shared by
+  // several triangles can slip through a closed mesh (tests/core/geometry_extremes_test.cpp).
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcCommitScene(scene);
+}
+
+Vec3 transformPoint(const Mat4& m, const Vec3& p) { return Vec3(m * glm::vec4(p, 1.f)); }
+
+}  // namespace
+
+void Scene::addInstance(int object, const Mat4& objectToWorld) {
+  Instance inst;
+  inst.object = object;
+  inst.toWorld = objectToWorld;
+  inst.toObject = glm::inverse(objectToWorld);
+  inst.normalToWorld = glm::transpose(glm::inverse(Mat3(objectToWorld)));
+  inst.mirrors = glm::determinant(Mat3(objectToWorld)) < 0;
+  instances_.push_back(inst);
+}
+
+Bounds3 Scene::objectBounds(int object) const {
+  Bounds3 b;
+  for (const Shape& s : objects_[size_t(object)]->shapes) b.extend(s.bounds());
+  return b;
+}
+
 void Scene::build(LightSelection selection) {
   auto start = std::chrono::steady_clock::now();
   for (size_t id = 0; id < shapes_.size(); ++id) {
     Shape& shape = shapes_[id];
     bounds_.extend(shape.bounds());
-    RTCGeometry g;
-    if (shape.isSphere()) {
-      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-      rtcSetGeometryUserPrimitiveCount(g, 1);
-      rtcSetGeometryUserData(g, const_cast<Sphere*>(&shape.sphereData()));
-      rtcSetGeometryBoundsFunction(g, sphereBounds, nullptr);
-      rtcSetGeometryIntersectFunction(g, sphereIntersect);
-      rtcSetGeometryOccludedFunction(g, sphereOccluded);
-    } else {
-      const TriangleMesh& m = shape.triangleMesh();
-      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), m.positions.size()));
-      for (size_t i = 0; i < m.positions.size(); ++i)
-        v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
-      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), m.triangles.size()));
-      for (size_t i = 0; i < m.triangles.size(); ++i)
-        idx[3 * i] = m.triangles[i].x, idx[3 * i + 1] = m.triangles[i].y, idx[3 * i + 2] = m.triangles[i].z;
-    }
-    if (hasOpacity(shape)) {
-      if (shape.isSphere()) throw std::runtime_error("opacity is supported on meshes only, not on spheres");
-      rtcSetGeometryUserData(g, &maskedShapes_.emplace_back(MaskedShape{&shape, this}));
-      rtcSetGeometryIntersectFilterFunction(g, opacityFilter);
-      rtcSetGeometryOccludedFilterFunction(g, opacityFilter);
-    }
-    rtcCommitGeometry(g);
+    RTCGeometry g = newGeometry(shape);
     rtcAttachGeometryByID(rtcScene_, g, unsigned(id));
     rtcReleaseGeometry(g);
 
@@ -168,11 +205,37 @@ void Scene::build(LightSelection selection) {
       lights_.push_back(std::make_unique<AreaLight>(&shape, emissions_[id].radiance, emissions_[id].twoSided));
     }
   }
-  rtcSetSceneBuildQuality(rtcScene_, RTC_BUILD_QUALITY_HIGH);
-  // Watertight traversal: without it, rays aimed exactly at a vertex shared by
-  // several triangles can slip through a closed mesh (tests/core/geometry_extremes_test.cpp).
-  rtcSetSceneFlags(rtcScene_, RTC_SCENE_FLAG_ROBUST);
-  rtcCommitScene(rtcScene_);
+  for (auto& object : objects_) {
+    object->rtc = rtcNewScene(device_);
+    for (size_t id = 0; id < object->shapes.size(); ++id) {
+      RTCGeometry g = newGeometry(object->shapes[id]);
+      rtcAttachGeometryByID(object->rtc, g, unsigned(id));
+      rtcReleaseGeometry(g);
+    }
+    commitForTracing(object->rtc);
+  }
+  // Instances take the geometry IDs after the shapes'; their shapes' ids
+  // (SurfaceInteraction::shapeId) follow the scene's own shapes.
+  int nextShapeId = int(shapes_.size());
+  for (size_t i = 0; i < instances_.size(); ++i) {
+    Instance& inst = instances_[i];
+    inst.firstShapeId = nextShapeId;
+    nextShapeId += int(objects_[size_t(inst.object)]->shapes.size());
+    Bounds3 local = objectBounds(inst.object);
+    if (!local.empty())
+      for (int corner = 0; corner < 8; ++corner)
+        bounds_.extend(transformPoint(inst.toWorld, Vec3(corner & 1 ? local.hi.x : local.lo.x,
+                                                         corner & 2 ? local.hi.y : local.lo.y,
+                                                         corner & 4 ? local.hi.z : local.lo.z)));
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, objects_[size_t(inst.object)]->rtc);
+    rtcSetGeometryTimeStepCount(g, 1);
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &inst.toWorld[0][0]);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(rtcScene_, g, unsigned(shapes_.size() + i));
+    rtcReleaseGeometry(g);
+  }
+  commitForTracing(rtcScene_);
   if (bounds_.empty()) bounds_.extend(camera.position());
   infiniteLights_.clear();
   for (size_t i = 0; i < lights_.size(); ++i) {
@@ -183,6 +246,38 @@ void Scene::build(LightSelection selection) {
   lightSampler_ = LightSampler(lights_, selection);
   built_ = true;
   buildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Points move by the transform, normals by its inverse transpose and
+// tangents as vectors. A triangle's geometric normal follows its winding
+// (core/shape.cpp), which a mirroring transform reverses: the instance's
+// faces turn over as the same mesh flattened into the world would (where the
+// mesh has vertex normals, those decide, as they do there). The point's
+// error bound grows by the transform's own rounding: pbrt-v4 §6.8.6, the
+// transform of a point that already carries an error.
+void Scene::Instance::toWorldSpace(const Shape& shape, const Ray& worldRay, SurfaceInteraction& si) const {
+  const Vec3 pObject = si.p, errObject = si.pError;
+  si.p = transformPoint(toWorld, pObject);
+  for (int row = 0; row < 3; ++row) {
+    float withError = 0, rounding = std::abs(toWorld[3][row]);
+    for (int col = 0; col < 3; ++col) {
+      withError += std::abs(toWorld[col][row]) * errObject[col];
+      rounding += std::abs(toWorld[col][row] * pObject[col]);
+    }
+    si.pError[row] = (gamma(3) + 1) * withError + gamma(3) * rounding;
+  }
+  si.ng = glm::normalize(normalToWorld * si.ng);
+  Vec3 ns = glm::normalize(normalToWorld * si.shading.n);
+  if (!shape.isSphere() && shape.triangleMesh().normals.empty()) {
+    if (mirrors) si.ng = -si.ng;
+    ns = si.ng;
+  } else if (!shape.isSphere() && glm::dot(si.ng, ns) < 0) {
+    si.ng = -si.ng;
+  }
+  si.shading = Frame(ns);
+  const Mat3 linear(toWorld);
+  si.dpdu = linear * si.dpdu, si.dpdv = linear * si.dpdv;
+  si.wo = -worldRay.d;
 }
 
 void Scene::toEmbree(const Ray& ray, RTCRay& r) {
@@ -199,16 +294,31 @@ void Scene::toEmbree(const Ray& ray, RTCRayHit& rh) {
 
 bool Scene::interaction(const Ray& ray, const RTCRayHit& rh, SurfaceInteraction& si) const {
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  const Shape& shape = shapes_[rh.hit.geomID];
-  shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
-  si.shapeId = int(rh.hit.geomID);
-  int material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
-  si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
-  si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
-  if (si.material && si.material->perturbsShading()) {
-    shape.surfaceTangents(si);
-    applyShadingMaps(*si.material, si);
+  const Instance* instance =
+      rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &instances_[rh.hit.instID[0] - shapes_.size()];
+  const Shape& shape =
+      instance ? objects_[size_t(instance->object)]->shapes[rh.hit.geomID] : shapes_[rh.hit.geomID];
+  int material = -1;
+  if (instance) {
+    // The hit as Embree found it, in the object's space: the same t along the
+    // ray moved there (Embree does not renormalise its direction).
+    Ray local{transformPoint(instance->toObject, ray.o), Mat3(instance->toObject) * ray.d, ray.tMax};
+    shape.fillInteraction(local, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
+    si.shapeId = instance->firstShapeId + int(rh.hit.geomID);
+    material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
+    si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
+    if (si.material && si.material->perturbsShading()) shape.surfaceTangents(si);
+    instance->toWorldSpace(shape, ray, si);
+    si.emitter = nullptr;
+  } else {
+    shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
+    si.shapeId = int(rh.hit.geomID);
+    material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
+    si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
+    si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
+    if (si.material && si.material->perturbsShading()) shape.surfaceTangents(si);
   }
+  if (si.material && si.material->perturbsShading()) applyShadingMaps(*si.material, si);
   return true;
 }
 

@@ -37,6 +37,20 @@ class Scene {
   const Material& material(int id) const { return *materials_[size_t(id)]; }
   void addShape(Shape shape, Emission emission = {});
   void addLight(std::unique_ptr<Light> light) { lights_.push_back(std::move(light)); }
+  // Objects and their instances (pbrt-v4's ObjectBegin / ObjectInstance): an
+  // object's shapes are kept once, in the object's own space, as an Embree
+  // scene of their own, and each instance places the object with an affine
+  // transform (an Embree instance geometry), so a thousand copies cost one
+  // copy's memory. Instanced shapes do not emit, as in pbrt-v4.
+  int addObject() {
+    objects_.push_back(std::make_unique<Object>());
+    return int(objects_.size()) - 1;
+  }
+  void addObjectShape(int object, Shape shape) { objects_[size_t(object)]->shapes.push_back(std::move(shape)); }
+  void addInstance(int object, const Mat4& objectToWorld);
+  // The object's shapes' bounds, in its own space.
+  Bounds3 objectBounds(int object) const;
+  size_t instanceCount() const { return instances_.size(); }
   // Creates the area lights, commits Embree's BVH, and prepares light sampling.
   void build(LightSelection selection = LightSelection::Power);
 
@@ -73,6 +87,25 @@ class Scene {
   static void opacityFilter(const RTCFilterFunctionNArguments* args);
   bool hasOpacity(const Shape& shape) const;
   std::deque<MaskedShape> maskedShapes_;
+  // Embree's geometry for one shape (a triangle mesh, or a sphere as user
+  // geometry), with the opacity filter where its material has an opacity.
+  RTCGeometry newGeometry(Shape& shape);
+
+  struct Object {
+    std::vector<Shape> shapes;  // in the object's space
+    RTCScene rtc = nullptr;
+  };
+  struct Instance {
+    int object = 0;
+    Mat4 toWorld, toObject;
+    Mat3 normalToWorld;  // the inverse transpose of toWorld's linear part
+    bool mirrors = false;  // toWorld turns space over (negative determinant)
+    int firstShapeId = 0;  // its shapes' SurfaceInteraction::shapeId start here
+    // A hit the object's space found, moved to the world's (scene.cpp).
+    void toWorldSpace(const Shape& shape, const Ray& worldRay, SurfaceInteraction& si) const;
+  };
+  std::vector<std::unique_ptr<Object>> objects_;
+  std::vector<Instance> instances_;
 
   RTCDevice device_ = nullptr;
   RTCScene rtcScene_ = nullptr;
