@@ -24,6 +24,7 @@ struct LoadContext {
   std::string folder;
   float worldScale = 1;
   std::map<std::string, int> materials;
+  std::map<std::string, int> objects;  // `objects:` by name, as Scene::addObject numbered them
   int defaultMaterial = -1;
   size_t degenerateTriangles = 0;
   std::vector<LightSource> lights;
@@ -49,7 +50,9 @@ void checkLightPowers(LoadContext& ctx, LightSelection selection);
 // A colour key that must not be negative.
 Color nonNegative(Params& p, const std::string& key, Color fallback);
 // One entry of `shapes:` (scene_file_shapes.cpp) or `lights:` (scene_file_lights.cpp).
-void readShape(Params& p, Scene& scene, LoadContext& ctx);
+// With an `object` (an id from Scene::addObject), a shape of `objects:`,
+// in the object's own space: world_scale is its instances', and it cannot emit.
+void readShape(Params& p, Scene& scene, LoadContext& ctx, int object = -1);
 void readLight(Params& p, Scene& scene, LoadContext& ctx);
 
 }  // namespace lb::scene_file

@@ -38,7 +38,7 @@ Mat4 readMatrix(Params& t) {
   return m;
 }
 
-Mat4 readTransform(Params& shape, const LoadContext& ctx) {
+Mat4 readTransform(Params& shape, float worldScale) {
   Mat4 m(1.f);
   if (auto t = shape.getChild("transform"); t && t->has("matrix")) {
     m = readMatrix(*t);
@@ -58,7 +58,42 @@ Mat4 readTransform(Params& shape, const LoadContext& ctx) {
     m = glm::rotate(m, glm::radians(rx), Vec3(1, 0, 0));
     m = glm::scale(m, scale);
   }
-  return glm::scale(Mat4(1.f), Vec3(ctx.worldScale)) * m;
+  return glm::scale(Mat4(1.f), Vec3(worldScale)) * m;
+}
+
+// Computed in double: a float determinant of 1e90 is Inf, of 1e-90 zero,
+// and the message would say "not invertible" without saying why.
+void checkInvertible(Params& p, const Mat4& toWorld) {
+  double det = std::abs(glm::determinant(glm::dmat4(toWorld)));
+  if (!(det >= double(std::numeric_limits<float>::min()) && det <= double(std::numeric_limits<float>::max()))) {
+    char msg[220];
+    std::snprintf(msg, sizeof msg, "scale (times world_scale) changes volumes by a factor of %g, beyond a float's "
+                  "range: the transform cannot be inverted in float (keep each axis's scale within about "
+                  "[2.3e-13, 6.9e12])", det);
+    p.fail("transform", msg);
+  }
+}
+
+// `type: instance`: an object of `objects:` placed by `transform` (its
+// world_scale applies here, not to the object's shapes).
+void readInstance(Params& p, Scene& scene, LoadContext& ctx) {
+  std::string name = p.requireString("object");
+  auto it = ctx.objects.find(name);
+  if (it == ctx.objects.end()) {
+    std::vector<std::string> names;
+    for (auto& kv : ctx.objects) names.push_back(kv.first);
+    std::string hint = closestMatch(name, names);
+    p.fail("object", "unknown object '" + name + "'" + (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+  }
+  Mat4 toWorld = readTransform(p, ctx.worldScale);
+  checkInvertible(p, toWorld);
+  p.checkUnused();
+  Bounds3 local = scene.objectBounds(it->second);
+  for (int corner = 0; corner < 8 && !local.empty(); ++corner) {
+    Vec3 c(corner & 1 ? local.hi.x : local.lo.x, corner & 2 ? local.hi.y : local.lo.y, corner & 4 ? local.hi.z : local.lo.z);
+    checkCoordinates(p, p.has("transform") ? "transform" : "object", Vec3(toWorld * glm::vec4(c, 1.f)));
+  }
+  scene.addInstance(it->second, toWorld);
 }
 
 TriangleMesh rectangleMesh() {
@@ -139,8 +174,13 @@ TriangleMesh inlineMesh(Params& p) {
   return m;
 }
 
-void readShape(Params& p, Scene& scene, LoadContext& ctx) {
-  std::string type = p.getChoice("type", "", {"mesh", "triangles", "sphere", "rectangle", "box", "disk"});
+void readShape(Params& p, Scene& scene, LoadContext& ctx, int object) {
+  std::string type = p.getChoice("type", "", {"mesh", "triangles", "sphere", "rectangle", "box", "disk", "instance"});
+  if (type == "instance" && object >= 0) p.fail("type", "an object cannot hold instances (one level of instancing)");
+  if (type == "instance") return readInstance(p, scene, ctx);
+  if (object >= 0 && p.has("emission"))
+    p.fail("emission", "an object's shapes cannot emit: instances do not (as in pbrt-v4); make it a shape of its own");
+  const float worldScale = object >= 0 ? 1.f : ctx.worldScale;
   // A material by name ("none": an absorber), else an error at `key` of `at`.
   auto materialNamed = [&](Params& at, const std::string& key, const std::string& name) {
     if (name == "none") return -1;
@@ -164,23 +204,14 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
   Shape shape;
   if (type == "sphere") {
     Sphere s;
-    s.center = p.getVec3("center", Vec3(0.f)) * ctx.worldScale;
-    s.radius = p.getFloat("radius", 1.f) * ctx.worldScale;
+    s.center = p.getVec3("center", Vec3(0.f)) * worldScale;
+    s.radius = p.getFloat("radius", 1.f) * worldScale;
     s.flipNormals = p.getBool("flip_normals", false);
     if (!(s.radius > 0) || !std::isfinite(s.radius)) p.fail("radius", "must be positive");
     shape = Shape::sphere(s);
   } else {
-    Mat4 toWorld = readTransform(p, ctx);
-    // Computed in double: a float determinant of 1e90 is Inf, of 1e-90 zero,
-    // and the message would say "not invertible" without saying why.
-    double det = std::abs(glm::determinant(glm::dmat4(toWorld)));
-    if (!(det >= double(std::numeric_limits<float>::min()) && det <= double(std::numeric_limits<float>::max()))) {
-      char msg[220];
-      std::snprintf(msg, sizeof msg, "scale (times world_scale) changes volumes by a factor of %g, beyond a float's "
-                    "range: the transform cannot be inverted in float (keep each axis's scale within about "
-                    "[2.3e-13, 6.9e12])", det);
-      p.fail("transform", msg);
-    }
+    Mat4 toWorld = readTransform(p, worldScale);
+    checkInvertible(p, toWorld);
     TriangleMesh mesh;
     size_t dropped = 0;
     if (type == "mesh") {
@@ -293,7 +324,8 @@ void readShape(Params& p, Scene& scene, LoadContext& ctx) {
     placedBy = "center";
   checkCoordinates(p, placedBy, box.lo);
   checkCoordinates(p, placedBy, box.hi);
-  scene.addShape(std::move(shape), emission);
+  if (object >= 0) scene.addObjectShape(object, std::move(shape));
+  else scene.addShape(std::move(shape), emission);
 }
 
 }  // namespace lb::scene_file

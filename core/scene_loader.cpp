@@ -149,6 +149,18 @@ SceneFile loadFromNode(const YAML::Node& root, const std::string& path, bool def
     Params none(YAML::Node(YAML::NodeType::Map), path, "default material");
     return makeMaterial(none);
   }());
+  // Objects (shapes defined once, in their own space) before the shapes whose
+  // instances place them.
+  if (auto objects = p.getChild("objects")) {
+    for (auto it = objects->node().begin(); it != objects->node().end(); ++it) {
+      std::string name = it->first.as<std::string>();
+      objects->has(name);  // mark as read
+      if (!it->second.IsSequence() || it->second.size() == 0) objects->fail(name, "expected a list of shapes");
+      ctx.objects[name] = scene.addObject();
+      for (Params& sp : objects->getList(name)) readShape(sp, scene, ctx, ctx.objects[name]);
+    }
+    objects->checkUnused();
+  }
   for (Params& sp : p.getList("shapes")) readShape(sp, scene, ctx);
   for (Params& lp : p.getList("lights")) readLight(lp, scene, ctx);
   std::string selection = p.getChoice("light_selection", "power", {"power", "uniform"});
