@@ -78,6 +78,8 @@ ImportedScene Translator::run(const std::string& text) {
   if (root_["integrator"]["name"].as<std::string>() == "sppm" && !root_["integrator"]["photons_per_pass"])
     root_["integrator"]["photons_per_pass"] = root_["film"]["width"].as<long>() * root_["film"]["height"].as<long>();
   if (materials_.size()) root_["materials"] = materials_;
+  for (const auto& [name, shapes] : objects_)
+    if (shapes.size()) root_["objects"][name] = shapes;
   root_["shapes"] = shapes_;
   if (lights_.size()) root_["lights"] = lights_;
   out_.scene = root_;
@@ -321,14 +323,13 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     needWorld(true);
     std::string type = typed("shape type");
     ParamSet ps = ParamSet::parse(tokens);
-    if (!currentObject_.empty()) objects_[currentObject_].push_back({type, ps, gs_, at});
-    else shape(type, ps, gs_, at);
+    shape(type, ps, gs_, at);
   } else if (name == "ObjectBegin") {
     needWorld(true);
     notInObject();
     currentObject_ = string("object name");
     if (objects_.count(currentObject_)) tokens.fail(d, "object " + inQuotes(currentObject_) + " defined twice");
-    objects_[currentObject_];
+    objects_[currentObject_] = YAML::Node(YAML::NodeType::Sequence);
     attributeStack_.emplace_back('o', gs_);
   } else if (name == "ObjectEnd") {
     if (currentObject_.empty()) tokens.fail(d, "ObjectEnd without ObjectBegin");
@@ -341,18 +342,20 @@ void Translator::directive(const Token& d, Tokenizer& tokens, int includeDepth, 
     needWorld(true);
     notInObject();
     std::string obj = string("object name");
-    auto it = objects_.find(obj);
-    if (it == objects_.end()) tokens.fail(d, "ObjectInstance of an undefined object " + inQuotes(obj));
-    // pbrt-v4: instance-to-world is the CTM here, after each shape's own
-    // CTM inside ObjectBegin. Each instance is copied into the scene.
-    for (const ShapeRecord& r : it->second) {
-      GraphicsState s = r.state;
-      s.ctm = gs_.ctm * r.state.ctm;
-      if (s.areaLight) {
-        warn(at, "area lights in object instances are not supported (pbrt-v4 ignores them too); the shape does not emit");
-        s.areaLight.reset();
-      }
-      shape(r.type, r.params, s, r.at);
+    if (!objects_.count(obj)) tokens.fail(d, "ObjectInstance of an undefined object " + inQuotes(obj));
+    // pbrt-v4: instance-to-world is the CTM here, applied after each shape's
+    // own CTM inside ObjectBegin. An object whose shapes were all dropped
+    // (unsupported) has nothing to place.
+    if (glm::determinant(glm::dmat3(gs_.ctm)) < 0)
+      warn(at, "an instance under a mirroring transform: its triangles without normals turn over (lightbench's winding "
+               "rule for a flattened mesh), where pbrt-v4 keeps their side");
+    if (objects_.at(obj).size()) {
+      YAML::Node s(YAML::NodeType::Map);
+      s["type"] = "instance";
+      s["object"] = obj;
+      s["transform"]["matrix"] = rowMajor(gs_.ctm);
+      out_.origins.emplace_back("shapes[" + std::to_string(shapes_.size()) + "]", at.mainLine);
+      shapes_.push_back(s);
     }
   } else if (name == "MakeNamedMedium") {
     string("medium name");

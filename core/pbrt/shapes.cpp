@@ -187,6 +187,10 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     }
   }
   bool emits = bool(gs.areaLight);
+  if (emits && !currentObject_.empty()) {
+    warn(at, "area lights in object instances are not supported (pbrt-v4 ignores them too); the shape does not emit");
+    emits = false;
+  }
   if (emits && interfaceMaterials_.count(gs.material)) {
     // pbrt-v4 (BasicScene::CreateLights) ignores an area light on a surface that is not there.
     warn(at, "an area light on an interface material: pbrt ignores it, so the shape does not emit");
@@ -207,6 +211,13 @@ void Translator::shape(const std::string& type, const ParamSet& ps, const Graphi
     if (gs.areaLight->twoSided) s["two_sided"] = true;
   }
   warnUnused(ps, at);
+  if (!currentObject_.empty()) {
+    // A shape of an object, in the object's space: placed by each ObjectInstance.
+    YAML::Node& list = objects_.at(currentObject_);
+    out_.origins.emplace_back("objects." + currentObject_ + "[" + std::to_string(list.size()) + "]", at.mainLine);
+    list.push_back(s);
+    return;
+  }
   out_.origins.emplace_back("shapes[" + std::to_string(shapes_.size()) + "]", at.mainLine);
   shapes_.push_back(s);
 }

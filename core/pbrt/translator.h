@@ -38,14 +38,6 @@ struct GraphicsState {
   std::optional<AreaLight> areaLight;
 };
 
-// A shape inside ObjectBegin/End, kept to be placed by each ObjectInstance.
-struct ShapeRecord {
-  std::string type;
-  ParamSet params;
-  GraphicsState state;
-  Where at;
-};
-
 
 class Translator {
  public:
@@ -92,7 +84,10 @@ class Translator {
   std::map<std::string, YAML::Node> namedTextures_;       // spectrum textures read (imagemap, checkerboard)
   std::map<std::string, YAML::Node> namedFloatTextures_;  // float ones (displacement, alpha)
   std::map<std::string, std::string> alphaMaterials_;     // (material, alpha) → its copy with that opacity
-  std::map<std::string, std::vector<ShapeRecord>> objects_;
+  // ObjectBegin/End: each object's shapes, in the object's space (their CTM
+  // inside it), written to the scene's `objects:`; ObjectInstance places one
+  // as a `type: instance` shape (Embree instancing, core/scene.h).
+  std::map<std::string, YAML::Node> objects_;  // each a sequence of shapes
   std::string currentObject_;  // inside ObjectBegin, else ""
   bool inWorld_ = false, cameraSeen_ = false, filmSeen_ = false, samplerSeen_ = false, filterSeen_ = false,
        integratorSeen_ = false;
