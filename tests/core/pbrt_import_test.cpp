@@ -357,14 +357,52 @@ TEST(PbrtImport, IncludeReadsFilesBesideTheMainOneAndObjectsAreInstanced) {
   YAML::Node s = imp.scene["shapes"];
   ASSERT_EQ(s.size(), 3u);
   EXPECT_DOUBLE_EQ(s[0]["radius"].as<double>(), 2.0);
-  // Instance-to-world (the CTM at ObjectInstance) after the shape's own CTM.
-  EXPECT_EQ(vec(s[1]["center"]), glm::dvec3(10, 1, 0));
-  EXPECT_EQ(vec(s[2]["center"]), glm::dvec3(20, 1, 0));
+  // The object's shape in its own space (its CTM inside ObjectBegin) ...
+  YAML::Node ball = imp.scene["objects"]["ball"];
+  ASSERT_EQ(ball.size(), 1u);
+  EXPECT_EQ(vec(ball[0]["center"]), glm::dvec3(0, 1, 0));
+  // ... placed by each instance with the CTM at ObjectInstance (Embree instancing).
+  for (int i : {1, 2}) {
+    EXPECT_EQ(s[i]["type"].as<std::string>(), "instance");
+    EXPECT_EQ(s[i]["object"].as<std::string>(), "ball");
+    EXPECT_DOUBLE_EQ(s[i]["transform"]["matrix"][3].as<double>(), 10.0 * i);  // row 0, column 3: x translation
+  }
+  SceneFile loaded = loadScene((dir / "main.pbrt").string());
+  EXPECT_EQ(loaded.scene->instanceCount(), 2u);
+  SurfaceInteraction si;
+  ASSERT_TRUE(loaded.scene->intersect(Ray{Vec3(20, 1, 5), Vec3(0, 0, -1), Infinity}, si));
+  EXPECT_NEAR(si.p.z, 1.0f, 1e-5f);  // the unit sphere at (20, 1, 0)
   // The warning from the included file names it and its line, at the Include's line.
   ASSERT_EQ(imp.warnings.size(), 1u);
   EXPECT_EQ(imp.warnings[0].line, 2);
   EXPECT_NE(imp.warnings[0].element.find("geometry.pbrt:2"), std::string::npos) << imp.warnings[0].element;
   std::filesystem::remove_all(dir);
+}
+
+// What instancing leaves out is said: an area light inside an object (pbrt-v4
+// ignores it too) and a mirroring instance (lightbench's winding rule turns
+// its triangles over); an object whose every shape was dropped places nothing.
+TEST(PbrtImport, InstancingGapsAreWarnedAndEmptyObjectsPlaceNothing) {
+  ImportedScene imp = importPbrtSnippet(
+      "WorldBegin\n"
+      "ObjectBegin \"lamp\"\n"
+      "  AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n"
+      "  Shape \"sphere\"\n"
+      "ObjectEnd\n"
+      "ObjectBegin \"nothing\"\n"
+      "  Shape \"cylinder\"\n"
+      "ObjectEnd\n"
+      "Scale -1 1 1\n"
+      "ObjectInstance \"lamp\"\n"
+      "ObjectInstance \"nothing\"\n");
+  EXPECT_TRUE(hasWarning(imp, "area lights in object instances are not supported"));
+  EXPECT_TRUE(hasWarning(imp, "mirroring transform"));
+  const YAML::Node scene = imp.scene;  // const: look-ups add no keys
+  ASSERT_TRUE(scene["objects"]["lamp"]);
+  EXPECT_FALSE(scene["objects"]["lamp"][0]["emission"]);
+  EXPECT_FALSE(scene["objects"]["nothing"]);
+  ASSERT_EQ(scene["shapes"].size(), 1u);
+  EXPECT_EQ(scene["shapes"][0]["object"].as<std::string>(), "lamp");
 }
 
 TEST(PbrtImport, EachUnsupportedKindIsWarnedOnceWithItsLines) {
