@@ -180,7 +180,14 @@ const ConsistentCase CacheGlass{GlassSphere, StratifiedCacheMethod, 16}, CacheRi
     SppmWater{WaterCausticLarger, SppmMethod, 8};
 
 // c from the sweeps (top of the file), rounded up; levels as there.
-TEST(ConsistentScenes, CacheOnTheGlassSphere) { expectConsistent(CacheGlass, {2, 0.5}, 0.035, Alpha); }
+// Disabled for CI's length (it took 44 s of 2 cores, the suite's longest
+// case): the cache's caustics are the caustic map's k-nearest estimate,
+// which PhotonOnTheGlassSphere tests on this scene, and the cache's use of
+// them is held to 5 % on the metal ring and through the enclosed light's
+// glass below. Run it by hand after a change to how the cache takes caustics:
+//   ./build/tests/integrator_tests --gtest_also_run_disabled_tests \
+//     --gtest_filter=ConsistentScenes.DISABLED_CacheOnTheGlassSphere
+TEST(ConsistentScenes, DISABLED_CacheOnTheGlassSphere) { expectConsistent(CacheGlass, {2, 0.5}, 0.035, Alpha); }
 TEST(ConsistentScenes, CacheOnTheMetalRing) { expectConsistent(CacheRing, {2, 0.5}, 0.025, Alpha); }
 // Not resolved above the noise at any p swept: the allowance only.
 TEST(ConsistentScenes, CacheOnTheEnclosedLight) { expectConsistent(CacheEnclosed, {1}, 0.02, Alpha); }
