@@ -151,6 +151,9 @@ MitsubaImport Translator::run() {
   // as Mitsuba allows.
   for (pugi::xml_node t : scene.children("texture")) registerId(t);
   for (pugi::xml_node b : scene.children("bsdf")) readBsdf(b);
+  // Shapegroups too, so that an instance may name one defined further down.
+  for (pugi::xml_node g : scene.children("shape"))
+    if (std::string(g.attribute("type").value()) == "shapegroup") readShapeGroup(g);
   for (pugi::xml_node c : scene.children()) {
     if (!isElement(c)) continue;
     std::string tag = c.name();
@@ -158,6 +161,7 @@ MitsubaImport Translator::run() {
     if (tag == "integrator") readIntegrator(c);
     else if (tag == "sensor") readSensor(c);
     else if (tag == "bsdf") readBsdf(c);
+    else if (tag == "shape" && std::string(c.attribute("type").value()) == "shapegroup") continue;  // read above
     else if (tag == "shape") readShape(c);
     else if (tag == "emitter") readEmitter(c);
     else xml_.warn(c, "not supported; dropped");
@@ -173,6 +177,8 @@ MitsubaImport Translator::run() {
                          std::to_string(kUnlimitedDepth) + " segments");
   }
   if (materials_.size()) root_["materials"] = materials_;
+  for (const auto& [id, shapes] : groups_)
+    if (shapes.size()) root_["objects"][id] = shapes;
   root_["shapes"] = shapes_;
   if (lights_.size()) root_["lights"] = lights_;
   out_.scene = root_;
@@ -300,12 +306,59 @@ std::string Translator::readBsdf(pugi::xml_node n, bool twoSided) {
   return addMaterial(n, translateBsdf(xml_, nested[0], true, ids_), nested[0]);
 }
 
-void Translator::readShape(pugi::xml_node n) {
+// A shapegroup's shapes become an object of the scene (`objects:`), each in
+// the group's space; instances place it (Embree instancing, core/scene.h).
+void Translator::readShapeGroup(pugi::xml_node n) {
+  registerId(n);
+  std::string id = xml_.attr(n, "id");
+  if (id.empty()) xml_.fail(n, "id", "a shapegroup needs an id (its instances refer to it)");
+  groups_[id] = YAML::Node(YAML::NodeType::Sequence);
+  for (pugi::xml_node c : n.children()) {
+    if (!isElement(c)) continue;
+    std::string type = c.attribute("type").value();
+    if (std::string(c.name()) != "shape" || type == "shapegroup")
+      xml_.warn(c, "not supported inside <shape type=\"shapegroup\">; dropped");
+    else
+      readShape(c, id);
+  }
+}
+
+// Mitsuba's instance: a <ref> to a shapegroup, placed by to_world (after
+// each shape's own to_world inside the group).
+void Translator::readInstance(pugi::xml_node n, Props& p, const glm::dmat4& toWorld, bool inGroup) {
+  if (inGroup) xml_.fail(n, "type", "an instance inside a shapegroup (instancing is one level deep)");
+  std::string group;
+  for (pugi::xml_node o : p.objects) {
+    if (std::string(o.name()) != "ref" || !group.empty()) {
+      xml_.warn(o, "not supported inside <shape type=\"instance\">; dropped");
+      continue;
+    }
+    group = xml_.attr(o, "id");
+  }
+  if (group.empty()) xml_.fail(n, "ref", "an instance needs a <ref> to a shapegroup");
+  auto it = groups_.find(group);
+  if (it == groups_.end())
+    xml_.fail(n, "ref", ids_.count(group) ? "'" + group + "' is not a shapegroup" : "no shapegroup with id '" + group + "' in the scene");
+  p.finish();
+  if (glm::determinant(glm::dmat3(toWorld)) < 0)
+    xml_.warn(n, "an instance under a mirroring transform: its triangles without normals turn over (lightbench's "
+                 "winding rule for a flattened mesh), where Mitsuba keeps their side");
+  if (!it->second.size()) return;  // every shape of the group was dropped
+  YAML::Node s(YAML::NodeType::Map);
+  s["type"] = "instance";
+  s["object"] = group;
+  s["transform"]["matrix"] = rowMajor(toWorld);
+  origin("shapes[" + std::to_string(shapes_.size()) + "]", n);
+  shapes_.push_back(s);
+}
+
+void Translator::readShape(pugi::xml_node n, const std::string& group) {
   registerId(n);
   std::string type = xml_.attr(n, "type");
   Props p(xml_, n);
   YAML::Node s(YAML::NodeType::Map);
   glm::dmat4 m = p.getTransform("to_world");
+  if (type == "instance") return readInstance(n, p, m, !group.empty());
   bool flip = p.getBool("flip_normals", false);
   if (type == "rectangle" || type == "cube" || type == "disk") {
     // The same canonical shapes as lightbench's: [-1,1]² at z = 0 facing +z,
@@ -352,7 +405,9 @@ void Translator::readShape(pugi::xml_node n) {
       if (std::string(o.name()) == "bsdf") readBsdf(o);
     return;
   }
-  const std::string key = "shapes[" + std::to_string(shapes_.size()) + "]";
+  YAML::Node& list = group.empty() ? shapes_ : groups_.at(group);
+  const std::string key =
+      (group.empty() ? std::string("shapes") : "objects." + group) + "[" + std::to_string(list.size()) + "]";
   bool hasBsdf = false, emitterSeen = false;
   for (pugi::xml_node o : p.objects) {
     std::string tag = o.name();
@@ -376,6 +431,10 @@ void Translator::readShape(pugi::xml_node n) {
       glm::dvec3 radiance = e.getColor("radiance", glm::dvec3(1.0));
       for (pugi::xml_node eo : e.objects) xml_.warn(eo, "textured emitters are not supported yet; dropped");
       e.finish();
+      if (!group.empty()) {
+        xml_.warn(o, "an emitter inside a shapegroup: instances do not emit (as in pbrt-v4); dropped");
+        continue;
+      }
       // One-sided, on the normal's side, as Mitsuba's area emitter.
       s["emission"] = flowVec(radiance);
       continue;
@@ -399,7 +458,7 @@ void Translator::readShape(pugi::xml_node n) {
   }
   p.finish();
   origin(key, n);
-  shapes_.push_back(s);
+  list.push_back(s);
 }
 
 void Translator::readEmitter(pugi::xml_node n) {
