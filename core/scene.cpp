@@ -298,26 +298,21 @@ bool Scene::interaction(const Ray& ray, const RTCRayHit& rh, SurfaceInteraction&
       rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? nullptr : &instances_[rh.hit.instID[0] - shapes_.size()];
   const Shape& shape =
       instance ? objects_[size_t(instance->object)]->shapes[rh.hit.geomID] : shapes_[rh.hit.geomID];
-  int material = -1;
   if (instance) {
     // The hit as Embree found it, in the object's space: the same t along the
     // ray moved there (Embree does not renormalise its direction).
     Ray local{transformPoint(instance->toObject, ray.o), Mat3(instance->toObject) * ray.d, ray.tMax};
     shape.fillInteraction(local, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
     si.shapeId = instance->firstShapeId + int(rh.hit.geomID);
-    material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
-    si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
-    if (si.material && si.material->perturbsShading()) shape.surfaceTangents(si);
-    instance->toWorldSpace(shape, ray, si);
-    si.emitter = nullptr;
   } else {
     shape.fillInteraction(ray, rh.ray.tfar, int(rh.hit.primID), rh.hit.u, rh.hit.v, si);
     si.shapeId = int(rh.hit.geomID);
-    material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
-    si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
-    si.emitter = shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
-    if (si.material && si.material->perturbsShading()) shape.surfaceTangents(si);
   }
+  int material = shape.triangleMaterials.empty() ? shape.materialId : shape.triangleMaterials[size_t(si.primId)];
+  si.material = material >= 0 ? materials_[size_t(material)].get() : nullptr;
+  si.emitter = !instance && shape.lightId >= 0 ? lights_[size_t(shape.lightId)].get() : nullptr;
+  if (si.material && si.material->perturbsShading()) shape.surfaceTangents(si);
+  if (instance) instance->toWorldSpace(shape, ray, si);
   if (si.material && si.material->perturbsShading()) applyShadingMaps(*si.material, si);
   return true;
 }
