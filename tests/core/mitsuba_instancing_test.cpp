@@ -10,6 +10,7 @@
 #include <fstream>
 #include "core/error.h"
 #include "core/scene_loader.h"
+#include "tests/support/instancing_checks.h"
 #include "tests/support/mitsuba_snippets.h"
 
 namespace lb {
@@ -76,12 +77,7 @@ TEST(MitsubaInstancing, GapsAreWarnedAndAnEmptyGroupPlacesNothing) {
       "<shape type=\"instance\"><ref id=\"nothing\"/></shape>\n"));
   EXPECT_TRUE(hasWarning(imp, "instances do not emit"));
   EXPECT_TRUE(hasWarning(imp, "mirroring transform"));
-  const YAML::Node scene = imp.scene;  // const: look-ups add no keys
-  ASSERT_TRUE(scene["objects"]["lamp"]);
-  EXPECT_FALSE(scene["objects"]["lamp"][0]["emission"]);
-  EXPECT_FALSE(scene["objects"]["nothing"]);
-  ASSERT_EQ(scene["shapes"].size(), 1u);
-  EXPECT_EQ(scene["shapes"][0]["object"].as<std::string>(), "lamp");
+  test::expectLampWithoutEmissionAndNothingPlaced(imp.scene);
 }
 
 TEST(MitsubaInstancing, BadReferencesAreOneErrorAtTheirLine) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include "core/error.h"
 #include "core/pbrt/params.h"
+#include "tests/support/instancing_checks.h"
 #include "tests/support/pbrt_snippets.h"
 #include "tests/support/render_helpers.h"
 
@@ -397,12 +398,7 @@ TEST(PbrtImport, InstancingGapsAreWarnedAndEmptyObjectsPlaceNothing) {
       "ObjectInstance \"nothing\"\n");
   EXPECT_TRUE(hasWarning(imp, "area lights in object instances are not supported"));
   EXPECT_TRUE(hasWarning(imp, "mirroring transform"));
-  const YAML::Node scene = imp.scene;  // const: look-ups add no keys
-  ASSERT_TRUE(scene["objects"]["lamp"]);
-  EXPECT_FALSE(scene["objects"]["lamp"][0]["emission"]);
-  EXPECT_FALSE(scene["objects"]["nothing"]);
-  ASSERT_EQ(scene["shapes"].size(), 1u);
-  EXPECT_EQ(scene["shapes"][0]["object"].as<std::string>(), "lamp");
+  test::expectLampWithoutEmissionAndNothingPlaced(imp.scene);
 }
 
 TEST(PbrtImport, EachUnsupportedKindIsWarnedOnceWithItsLines) {
