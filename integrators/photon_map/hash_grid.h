@@ -11,6 +11,7 @@
 // order. A bucket therefore lists its points in ascending index whatever the
 // thread count, and queries visit them in a fixed order (bit-identical
 // images). O(n) work, no allocation per cell.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 #include "core/math.h"
@@ -58,19 +59,21 @@ void HashGrid::forEachWithin(const Vec3& p, Found&& found) const {
         for (int k = 0; k < n; ++k) seen |= buckets[k] == b;
         if (!seen) buckets[n++] = b;
       }
-  // Ascending index across buckets: merge the (sorted) buckets' lists.
-  uint32_t at[8], end[8];
-  for (int k = 0; k < n; ++k) at[k] = start_[buckets[k]], end[k] = start_[buckets[k] + 1];
-  while (true) {
-    int best = -1;
-    for (int k = 0; k < n; ++k)
-      if (at[k] < end[k] && (best < 0 || order_[at[k]] < order_[at[best]])) best = k;
-    if (best < 0) break;
-    uint32_t slot = at[best]++;
-    Vec3 d = points_[slot] - p;
-    float d2 = glm::dot(d, d);
-    if (d2 < radius2_) found(order_[slot], d2);
-  }
+  // The points within r, bucket by bucket, then in ascending index: each
+  // bucket lists its points in ascending index, so one bucket needs no sort,
+  // and a handful found in several is sorted cheaply (a k-way merge of the
+  // buckets' lists instead cost a comparison per bucket for every point
+  // scanned, about 15 scanned for each one found).
+  thread_local std::vector<std::pair<uint32_t, float>> within;
+  within.clear();
+  for (int k = 0; k < n; ++k)
+    for (uint32_t slot = start_[buckets[k]], end = start_[buckets[k] + 1]; slot < end; ++slot) {
+      Vec3 d = points_[slot] - p;
+      float d2 = glm::dot(d, d);
+      if (d2 < radius2_) within.push_back({order_[slot], d2});
+    }
+  if (n > 1) std::sort(within.begin(), within.end());
+  for (const auto& [index, d2] : within) found(index, d2);
 }
 
 }  // namespace lb
