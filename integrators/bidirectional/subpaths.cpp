@@ -10,7 +10,7 @@ namespace {
 // sampling the BSDF at each hit; returns the number of vertices added.
 int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ray, Color beta, float pdfFwd,
                int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays,
-               const WalkDimensions& dims) {
+               const WalkDimensions& dims, WalkStop stop = WalkStop::AtLength) {
   const float startThroughput = maxComponent(beta);
   const float rouletteScale = startThroughput > 0 ? 1 / startThroughput : 1.f;
   if (maxVertices <= 0) return 0;
@@ -33,6 +33,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     v.pdfFwd = convertDensity(prev, pdfFwd, v);
     ++added;
     if (added >= maxVertices || !si.material) break;
+    if (stop == WalkStop::AtFirstNonSpecular && !si.material->isDelta()) break;
     BSDF bsdf(si);
     if (dims.stride > 0) sampler.setDimension(dims.first + dims.stride * uint32_t(start + added - 2));
     Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)
@@ -70,7 +71,7 @@ int maxSegments(const PathLength& s) { return s.maxSegments(); }
 }  // namespace
 
 int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, Vec2 raster,
-                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dims) {
+                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dims, WalkStop stop) {
   if (maxSegments(s) < 1) return 0;
   Ray ray = scene.camera.generateRay(raster);
   path[0] = cameraVertex(scene.camera, Color(1.f));
@@ -80,7 +81,7 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength
   // past the caller's array, which caps "unlimited" depth).
   int room = int(path.size()) - 1;
   return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, std::min(maxSegments(s), room),
-                        TransportMode::Radiance, path, 1, rays, dims);
+                        TransportMode::Radiance, path, 1, rays, dims, stop);
 }
 
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, std::vector<Vertex>& path,

@@ -20,12 +20,18 @@ struct WalkDimensions {
   uint32_t first = 0, stride = 0, emission = 0;
 };
 
+// Where a camera walk ends: at the length's bound (and roulette), or also at
+// its first vertex that is not specular (progressive photon mapping merges
+// there and nowhere after, so tracing further would be wasted rays).
+enum class WalkStop { AtLength, AtFirstNonSpecular };
+
 // Random walks from the camera through `raster` and from a light chosen by
 // the scene's light sampler. They fill `path` from index 0 and return the
 // number of vertices; `path.size()` caps the walk (it must hold at least
 // one vertex), `length` bounds it in segments and sets the roulette.
 int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& length, Vec2 raster,
-                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dimensions = {});
+                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dimensions = {},
+                          WalkStop stop = WalkStop::AtLength);
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& length, std::vector<Vertex>& path,
                          uint64_t& rays, const WalkDimensions& dimensions = {});
 

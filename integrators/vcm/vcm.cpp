@@ -67,6 +67,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays (as in bdpt).
   const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
   const size_t lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
+  const bool weighted = settings_.mode != VcmMode::Ppm;  // ppm: merging alone, weight 1
 
   // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
   //    camera subpath; with connections, each vertex is joined to the camera.
@@ -87,7 +88,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     size_t pixel = size_t(y) * W + x;
     sampler.start(N + pixel, pass);
     int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
-    bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::SubpathSide::Light);
+    if (weighted) bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::SubpathSide::Light);
     if (settings_.connections())
       for (int s = 2; s <= n && s <= maxSeg; ++s) {  // t = 1: s segments
         bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, cameraEnd, s, 1, rays);
@@ -137,8 +138,11 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     size_t pixel = size_t(y) * W + x;
     sampler.start(pixel, pass);
     Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
-    int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, at.raster, camera, rays);
-    bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::SubpathSide::Camera);
+    // Progressive photon mapping merges at the first non-specular vertex
+    // only, and weighs nothing: its camera walk ends there, without sums.
+    int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, at.raster, camera, rays, {},
+                                          weighted ? bidir::WalkStop::AtLength : bidir::WalkStop::AtFirstNonSpecular);
+    if (weighted) bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::SubpathSide::Camera);
     const LightSubpathRef& own = lightSubpaths_[pixel];
     bidir::Subpath light(tileVertices_[own.tile].data() + own.first, own.count);
     int nl = int(own.count);
@@ -149,7 +153,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     };
     // Merging camera[t-1] with every light vertex within r; weight 1 in ppm
     // mode (the only technique there).
-    auto mergeAt = [&](int t, bool weighted) {
+    auto mergeAt = [&](int t) {
       bidir::PhaseScope merging(bidir::Phase::Merges);
       const Vertex& pt = camera[size_t(t - 1)];
       found.clear();
@@ -197,7 +201,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
         const Vertex& v = camera[size_t(t - 1)];
         if (v.isLight()) add(bidir::connect(scene, sampler, settings_.mis, light, camera, 0, t, rays).L);
         if (mergeable(v)) {
-          mergeAt(t, false);
+          mergeAt(t);
           break;
         }
         if (!v.delta) break;
@@ -211,7 +215,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
           if (!isBlack(c.L) && c.weight > 0) add(c.L * c.weight);
         }
         // A merge uses s >= 1 light vertices, s + t − 1 segments: none fits beyond t = max_depth.
-        if (settings_.merging() && t <= maxSeg && mergeable(camera[size_t(t - 1)])) mergeAt(t, true);
+        if (settings_.merging() && t <= maxSeg && mergeable(camera[size_t(t - 1)])) mergeAt(t);
       }
     }
     image.add(x, y, L * at.weight, pass, film);  // this tile owns pixel (x, y); the filter's weight (core/filter.h)
