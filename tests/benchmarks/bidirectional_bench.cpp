@@ -50,9 +50,9 @@ BENCHMARK_CAPTURE(VcmIteration, ppm_flann, "{mode: ppm, lookup: flann}")->Unit(b
 // claims (adding splats, the film), and "ms/pass" for the pass's wall time
 // with the instrumentation, against which the uninstrumented rows above
 // (and Integrator/bdpt_*) show its overhead.
-void CostSplit(benchmark::State& state, const char* integrator, const char* scene) {
+void CostSplit(benchmark::State& state, const char* integrator, const char* scene, const char* settings = "{}") {
   const SceneFile& sf = scene128(scene);
-  Params params(YAML::Load("{}"), "", "integrator");
+  Params params(YAML::Load(settings), "", "integrator");
   auto integ = makeIntegrator(integrator, params);
   Film film(128, 128);
   auto sampler = makeSampler(sf.sampler, 1);
@@ -77,6 +77,8 @@ void CostSplit(benchmark::State& state, const char* integrator, const char* scen
 }
 BENCHMARK_CAPTURE(CostSplit, bdpt_cornell_spheres, "bdpt", "cornell-box-spheres")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(CostSplit, vcm_cornell_spheres, "vcm", "cornell-box-spheres")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(CostSplit, bpm_cornell_spheres, "vcm", "cornell-box-spheres", "{mode: bpm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK_CAPTURE(CostSplit, ppm_cornell_spheres, "vcm", "cornell-box-spheres", "{mode: ppm}")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(CostSplit, bdpt_caustic, "bdpt", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK_CAPTURE(CostSplit, vcm_caustic, "vcm", "caustic-glass-sphere")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
