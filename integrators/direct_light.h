@@ -25,10 +25,13 @@ struct DirectLightQuery {
   DirectLightSample sample;
   Ray shadowRay;
 };
+// `compensated`: the light's MIS-compensated density (core/lights/light.h),
+// for an estimator that also samples the BSDF and weighs with these densities.
 inline std::optional<DirectLightQuery> directLightQuery(const SurfaceInteraction& si, const BSDF& bsdf,
-                                                        const Light* light, float pmf, float uPick, Vec2 u) {
+                                                        const Light* light, float pmf, float uPick, Vec2 u,
+                                                        bool compensated = false) {
   if (!light || !(pmf > 0)) return std::nullopt;
-  auto ls = light->sampleLi(si.p, uPick, u);
+  auto ls = compensated ? light->sampleLiCompensated(si.p, uPick, u) : light->sampleLi(si.p, uPick, u);
   if (!ls || ls->pdf == 0 || isBlack(ls->L)) return std::nullopt;
   BSDFEval e = bsdf.eval(si.wo, ls->wi, TransportMode::Radiance);
   Color f = e.f * absDot(ls->wi, bsdf.shadingNormal());

@@ -7,28 +7,50 @@ namespace lb {
 
 EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, const Mat3& toWorld, bool importance)
     : map_(std::move(map)), scale_(scale), toWorld_(toWorld), toMap_(glm::transpose(toWorld)), importance_(importance) {
-  const int w = map_.width, h = map_.height;
   // The weights are relative: divided by the brightest texel, so that a row's
   // sum stays a float for any map whose texels are (a wide map of 1e35s
   // summed past 3.4e38 and gave NaN probabilities: issue 34, class 1).
   float brightest = 0;
   for (const Color& c : map_.pixels) brightest = std::max({brightest, c.r, c.g, c.b});
   const double unit = brightest > 0 ? 1.0 / double(brightest) : 1.0;
+  auto m = [&](int x, int y) {
+    const Color& c = map_.at(x, y);
+    return double(std::max({c.r, c.g, c.b})) * unit;
+  };
+  auto sinTheta = [&](int y) { return std::sin(Pi * (y + 0.5) / map_.height); };
+  full_ = texelDistribution([&](int x, int y) { return m(x, y) * sinTheta(y); });
+  // The mean of m over the sphere, in the measure the distribution itself
+  // uses (sin θ at texel centres). A texel within a millionth of the mean
+  // counts as at it: a constant map's rounding must not become a distribution.
+  double weighted = 0, area = 0;
+  for (int y = 0; y < map_.height; ++y)
+    for (int x = 0; x < map_.width; ++x) weighted += m(x, y) * sinTheta(y), area += sinTheta(y);
+  const double mean = area > 0 ? weighted / area : 0;
+  compensated_ = texelDistribution([&](int x, int y) {
+    double above = m(x, y) - mean;
+    return above > 1e-6 * mean ? above * sinTheta(y) : 0.0;
+  });
+  if (!(compensated_.rows.total() > 0)) compensated_ = full_;
+}
+
+template <typename Weight>
+EnvironmentMapLight::TexelDistribution EnvironmentMapLight::texelDistribution(Weight&& weight) const {
+  const int w = map_.width, h = map_.height;
+  TexelDistribution d;
   std::vector<float> rowWeights(static_cast<size_t>(h));
-  columns_.reserve(size_t(h));
+  d.columns.reserve(size_t(h));
   for (int y = 0; y < h; ++y) {
-    const double sinTheta = std::sin(Pi * (y + 0.5) / h);
     std::vector<float> weights(static_cast<size_t>(w));
     double rowSum = 0;
     for (int x = 0; x < w; ++x) {
-      const Color& c = map_.at(x, y);
-      weights[size_t(x)] = float(double(std::max({c.r, c.g, c.b})) * unit * sinTheta);
+      weights[size_t(x)] = float(weight(x, y));
       rowSum += weights[size_t(x)];
     }
-    columns_.emplace_back(weights);
+    d.columns.emplace_back(weights);
     rowWeights[size_t(y)] = float(rowSum);
   }
-  rows_ = DiscreteDistribution(rowWeights);
+  d.rows = DiscreteDistribution(rowWeights);
+  return d;
 }
 
 void EnvironmentMapLight::preprocess(const Bounds3& b) {
@@ -62,28 +84,30 @@ const Color& EnvironmentMapLight::texel(Vec2 uv) const {
 
 Color EnvironmentMapLight::Le(const Vec3& d) const { return texel(uvOf(d)) * scale_; }
 
-float EnvironmentMapLight::directionPdf(const Vec3& d) const {
+float EnvironmentMapLight::directionPdf(const Vec3& d, bool compensated) const {
   if (!importance_) return uniformSpherePdf();
+  const TexelDistribution& dist = distribution(compensated);
   Vec2 uv = uvOf(d);
   float sinTheta = std::sin(Pi * uv.y);
-  if (!(sinTheta > 0) || rows_.total() <= 0) return 0;
+  if (!(sinTheta > 0) || dist.rows.total() <= 0) return 0;
   int x = std::clamp(int(uv.x * map_.width), 0, map_.width - 1);
   int y = std::clamp(int(uv.y * map_.height), 0, map_.height - 1);
   // Density over [0,1]²: the texel's probability over its area 1/(w h).
-  float pdfUv = rows_.pmf(size_t(y)) * columns_[size_t(y)].pmf(size_t(x)) * float(map_.width) * float(map_.height);
+  float pdfUv = dist.rows.pmf(size_t(y)) * dist.columns[size_t(y)].pmf(size_t(x)) * float(map_.width) * float(map_.height);
   return pdfUv / (2 * Pi * Pi * sinTheta);
 }
 
-Vec3 EnvironmentMapLight::sampleDirection(Vec2 u, float* pdf) const {
+Vec3 EnvironmentMapLight::sampleDirection(Vec2 u, float* pdf, bool compensated) const {
   if (!importance_) {
     *pdf = uniformSpherePdf();
     return sampleUniformSphere(u);
   }
   *pdf = 0;
-  if (rows_.total() <= 0) return Vec3(0.f);
+  const TexelDistribution& dist = distribution(compensated);
+  if (dist.rows.total() <= 0) return Vec3(0.f);
   float pmfRow = 0, pmfColumn = 0, uy = 0, ux = 0;
-  size_t y = rows_.sample(u.y, &pmfRow, &uy);
-  size_t x = columns_[y].sample(u.x, &pmfColumn, &ux);
+  size_t y = dist.rows.sample(u.y, &pmfRow, &uy);
+  size_t x = dist.columns[y].sample(u.x, &pmfColumn, &ux);
   Vec2 uv((float(x) + ux) / float(map_.width), (float(y) + uy) / float(map_.height));
   float sinTheta = std::sin(Pi * uv.y);
   if (!(sinTheta > 0)) return Vec3(0.f);
@@ -100,6 +124,17 @@ std::optional<LightSample> EnvironmentMapLight::sampleLi(const Vec3& ref, float,
 
 float EnvironmentMapLight::pdfLi(const Vec3&, const Vec3& wi, const Vec3&, const Vec3&) const {
   return directionPdf(wi);
+}
+
+std::optional<LightSample> EnvironmentMapLight::sampleLiCompensated(const Vec3& ref, float, Vec2 u) const {
+  float pdf = 0;
+  Vec3 wi = sampleDirection(u, &pdf, true);
+  if (!(pdf > 0)) return std::nullopt;
+  return LightSample{Le(wi), wi, pdf, ref + wi * (2 * radius_ + glm::length(ref - center_))};
+}
+
+float EnvironmentMapLight::pdfLiCompensated(const Vec3&, const Vec3& wi, const Vec3&, const Vec3&) const {
+  return directionPdf(wi, true);
 }
 
 std::optional<LightEmission> EnvironmentMapLight::sampleLe(float, Vec2 uPos, Vec2 uDir) const {

@@ -13,6 +13,12 @@
 // mapping's Jacobian: p(ω) = p(u, v) / (2π² sin θ). `uniform` sampling (over
 // the sphere) is kept to measure what importance sampling gains.
 //
+// MIS compensation (Karlík et al. 2019, as pbrt-v4's image infinite light):
+// a second distribution with weights max(0, m − m̄) × sin θ, m = max(r, g, b)
+// of a texel and m̄ its mean over the sphere, for path tracing's NEE under
+// MIS with BSDF sampling (sampleLiCompensated/pdfLiCompensated). A map with
+// no texel above its mean (a constant one) keeps the full distribution.
+//
 // Both directions, as every light: sampleLi/pdfLi for next-event estimation,
 // sampleLe/pdfLe (a direction from the same distribution, a point on a disc
 // covering the scene) for light tracing, BDPT, VCM and the photon methods.
@@ -32,6 +38,8 @@ class EnvironmentMapLight final : public Light {
   void preprocess(const Bounds3& b) override;
   std::optional<LightSample> sampleLi(const Vec3& ref, float uPick, Vec2 u) const override;
   float pdfLi(const Vec3& ref, const Vec3& wi, const Vec3& pLight, const Vec3& nLight) const override;
+  std::optional<LightSample> sampleLiCompensated(const Vec3& ref, float uPick, Vec2 u) const override;
+  float pdfLiCompensated(const Vec3& ref, const Vec3& wi, const Vec3& pLight, const Vec3& nLight) const override;
   std::optional<LightEmission> sampleLe(float uPick, Vec2 uPos, Vec2 uDir) const override;
   void pdfLe(const Vec3& p, const Vec3& n, const Vec3& dir, float* pdfPos, float* pdfDir) const override;
   Color power() const override;
@@ -41,12 +49,22 @@ class EnvironmentMapLight final : public Light {
 
   // ∫ Le dω over the sphere, summed texel by texel (exact for this map).
   Color integral() const;
-  // Solid-angle density of the direction sampler (importance or uniform).
-  float directionPdf(const Vec3& d) const;
+  // Solid-angle density of the direction sampler (importance or uniform;
+  // `compensated`: the MIS-compensated one).
+  float directionPdf(const Vec3& d, bool compensated = false) const;
 
  private:
+  // Texels drawn by a row from the marginal, then a column from that row's conditional.
+  struct TexelDistribution {
+    DiscreteDistribution rows;
+    std::vector<DiscreteDistribution> columns;
+  };
+  // Weights w(x, y) for every texel, m(x, y) × sin θ as above (m relative to the brightest texel).
+  template <typename Weight>
+  TexelDistribution texelDistribution(Weight&& w) const;
+  const TexelDistribution& distribution(bool compensated) const { return compensated ? compensated_ : full_; }
   // A direction towards the environment, and its solid-angle pdf (0: none).
-  Vec3 sampleDirection(Vec2 u, float* pdf) const;
+  Vec3 sampleDirection(Vec2 u, float* pdf, bool compensated = false) const;
   Vec2 uvOf(const Vec3& worldDir) const;
   Vec3 directionOf(Vec2 uv) const;
   const Color& texel(Vec2 uv) const;
@@ -55,8 +73,7 @@ class EnvironmentMapLight final : public Light {
   float scale_;
   Mat3 toWorld_, toMap_;
   bool importance_;
-  DiscreteDistribution rows_;
-  std::vector<DiscreteDistribution> columns_;
+  TexelDistribution full_, compensated_;
   Vec3 center_{0.f};
   float radius_ = 1;
 };

@@ -35,6 +35,18 @@ class Light {
   // For lights that can be hit: the pdf sampleLi would give for the point
   // (pLight, nLight) seen from ref along wi. 0 for delta lights.
   virtual float pdfLi(const Vec3& ref, const Vec3& wi, const Vec3& pLight, const Vec3& nLight) const = 0;
+  // Next-event estimation's density made for multiple importance sampling
+  // with an estimator that also samples the BSDF (MIS compensation, Karlík,
+  // Šik, Vévoda, Skřivan & Křivánek 2019): it may be zero where the other
+  // strategy does better (an environment map below its mean), so it is only
+  // for an estimator whose BSDF sampling reaches every direction and whose
+  // weights use these same densities. Lights without one use their own.
+  virtual std::optional<LightSample> sampleLiCompensated(const Vec3& ref, float uPick, Vec2 u) const {
+    return sampleLi(ref, uPick, u);
+  }
+  virtual float pdfLiCompensated(const Vec3& ref, const Vec3& wi, const Vec3& pLight, const Vec3& nLight) const {
+    return pdfLi(ref, wi, pLight, nLight);
+  }
   virtual std::optional<LightEmission> sampleLe(float uPick, Vec2 uPos, Vec2 uDir) const = 0;
   virtual void pdfLe(const Vec3& p, const Vec3& n, const Vec3& dir, float* pdfPos, float* pdfDir) const = 0;
   virtual Color power() const = 0;

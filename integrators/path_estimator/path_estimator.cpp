@@ -44,7 +44,17 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
     s.wavefront = p.getChoice("engine", "single_ray", {"single_ray", "wavefront"},
                               "one path at a time, or all of a batch's rays in Embree streams (wavefront.h)") ==
                   "wavefront";
+  s.misCompensation = p.getBool("mis_compensation", false,
+                                "NEE samples an environment map with its mean subtracted (zero below it), leaving "
+                                "those directions to BSDF sampling under MIS (Karlik et al. 2019, as pbrt-v4)");
   s.length = PathLength::read(p);
+  // Compensated densities are zero where the map is below its mean: only
+  // BSDF sampling, weighted against the same densities, reaches there.
+  if (s.misCompensation && (!s.nee || s.mis == MisHeuristic::None))
+    p.fail("mis_compensation", "needs next-event estimation weighted by MIS against BSDF sampling (nee: true, "
+                               "mis: power, balance or one_sample)");
+  if (s.misCompensation && s.sampling != DirectionSampling::Bsdf)
+    p.fail("mis_compensation", "needs sampling: bsdf (cosine and uniform sampling miss transmitted directions)");
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
   if (s.mis == MisHeuristic::OneSample && s.shadowRays > 1)
@@ -156,6 +166,11 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   Sampler& sampler = c.sampler;
   bool countEmission = segments > 1 || c.firstEmission;
 
+  // The density with which the previous vertex's NEE would have sampled
+  // this point of `light` (the compensated one if NEE used it).
+  auto lightPdf = [&](const Light& light, const Vec3& ref, const Vec3& wi, const Vec3& p, const Vec3& n) {
+    return settings_.misCompensation ? light.pdfLiCompensated(ref, wi, p, n) : light.pdfLi(ref, wi, p, n);
+  };
   // Emission reached by this segment, MIS-weighted against the previous
   // vertex's light samples.
   auto emissionWeight = [&](const Light* light, float pdfLi) {
@@ -173,7 +188,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     if (!countEmission) return 0;
     for (const Light* env : c.scene.infiniteLights()) {
       Color Le = env->Le(s.ray.d);
-      if (!isBlack(Le)) L += s.beta * Le * emissionWeight(env, env->pdfLi(s.prevPoint, s.ray.d, {}, {}));
+      if (!isBlack(Le)) L += s.beta * Le * emissionWeight(env, lightPdf(*env, s.prevPoint, s.ray.d, {}, {}));
     }
     return 0;
   }
@@ -182,7 +197,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     Color Le = si.emitter->L(si.ng, si.wo);
     Color emitted = isBlack(Le) ? Color(0.f)
                                 : s.beta * Le *
-                                      emissionWeight(si.emitter, si.emitter->pdfLi(s.prevPoint, s.ray.d, si.p, si.ng));
+                                      emissionWeight(si.emitter, lightPdf(*si.emitter, s.prevPoint, s.ray.d, si.p, si.ng));
     // Emit vs reflect: one of the two terms of the rendering equation, each
     // divided by the probability of choosing it.
     if (!isBlack(emitted) && canContinue && settings_.emissionSelection > 0) {
@@ -215,7 +230,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     const Light* light = chooseLight(c.scene, si.p, sampler.get1D(), &pmf);
     float uPick = sampler.get1D();
     Vec2 u = sampler.get2D();
-    return directLightQuery(si, bsdf, light, pmf, uPick, u);
+    return directLightQuery(si, bsdf, light, pmf, uPick, u, settings_.misCompensation);
   };
 
   // Next-event estimation.

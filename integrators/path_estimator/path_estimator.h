@@ -74,6 +74,7 @@ struct PathTracerSettings {
   int firstBounceSamples = 1;
   LightChoice lightSelection = LightChoice::Scene;
   bool wavefront = false;  // engine: wavefront (wavefront.h) instead of one ray at a time
+  bool misCompensation = false;  // NEE from lights' MIS-compensated densities (core/lights/light.h)
   PathLength length;
 
   // Without `directionKeys`, the keys that change how directions are drawn

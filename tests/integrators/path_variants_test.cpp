@@ -156,5 +156,20 @@ TEST(PathVariants, OneSampleMisRefusesSeveralShadowRays) {
                ConfigError);
 }
 
+// MIS compensation (core/lights/light.h) leaves directions to BSDF sampling
+// under MIS; an estimator without it would lose them, so it is refused.
+TEST(PathVariants, MisCompensationIsRefusedWhereBsdfSamplingCannotCoverIt) {
+  SceneFile scene = loadShippedScene("cornell-box", 8, 8);
+  for (const char* params : {"{mis_compensation: true, mis: none}", "{mis_compensation: true, nee: false}",
+                             "{mis_compensation: true, sampling: cosine}"}) {
+    try {
+      renderScene(scene, {"path", params, 1, 1});
+      ADD_FAILURE() << params << " was accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("mis_compensation"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lb::test
