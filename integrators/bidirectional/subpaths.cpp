@@ -33,7 +33,7 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     v.pdfFwd = convertDensity(prev, pdfFwd, v);
     ++added;
     if (added >= maxVertices || !si.material) break;
-    if (stop == WalkStop::AtFirstNonSpecular && !si.material->isDelta()) break;
+    if (stop == WalkStop::AtFirstNonSpecular && v.mergeable()) break;
     BSDF bsdf(si);
     if (dims.stride > 0) sampler.setDimension(dims.first + dims.stride * uint32_t(start + added - 2));
     Vec2 uDir = sampler.get2D();  // the direction's two dimensions, then the lobe's (core/sampler.h)

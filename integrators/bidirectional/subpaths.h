@@ -21,8 +21,9 @@ struct WalkDimensions {
 };
 
 // Where a camera walk ends: at the length's bound (and roulette), or also at
-// its first vertex that is not specular (progressive photon mapping merges
-// there and nowhere after, so tracing further would be wasted rays).
+// its first vertex photons can be merged at (Vertex::mergeable: progressive
+// photon mapping merges there and nowhere after, so tracing further would be
+// wasted rays).
 enum class WalkStop { AtLength, AtFirstNonSpecular };
 
 // Random walks from the camera through `raster` and from a light chosen by

@@ -64,6 +64,9 @@ struct Vertex {
   bool isDeltaLight() const { return type == VertexType::Light && light && light->isDelta(); }
   bool isInfiniteLight() const { return type == VertexType::Light && infinite; }
   bool connectible() const;
+  // A vertex photons can be merged at (VCM, BPM, PPM): a non-specular
+  // surface, not a light's own point.
+  bool mergeable() const { return type == VertexType::Surface && connectible(); }
   const Light* emitter() const { return type == VertexType::Light ? light : si.emitter; }
   Vec3 shadingNormal() const { return si.shading.n; }
 };

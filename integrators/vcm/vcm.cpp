@@ -46,9 +46,6 @@ float Vcm::radius(const Scene& scene, uint64_t pass) const {
 
 namespace {
 
-// A vertex photons can be merged at: a non-specular surface, not a light's own point.
-bool mergeable(const Vertex& v) { return v.type == VertexType::Surface && v.connectible(); }
-
 // A light vertex in the merging index: its tile's array, where its light
 // subpath starts there, and its place on the subpath.
 struct LightVertexRef {
@@ -106,7 +103,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     lightSubpaths_[pixel] = {uint32_t(tile), first, uint32_t(n)};
     if (settings_.merging())
       for (int j = 1; j < n; ++j)
-        if (mergeable(light[size_t(j)]))
+        if (light[size_t(j)].mergeable())
           tilePoints[size_t(tile)].push_back(light[size_t(j)].p), tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
   });
 
@@ -200,7 +197,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       for (int t = 2; t <= nc; ++t) {
         const Vertex& v = camera[size_t(t - 1)];
         if (v.isLight()) add(bidir::connect(scene, sampler, settings_.mis, light, camera, 0, t, rays).L);
-        if (mergeable(v)) {
+        if (v.mergeable()) {
           mergeAt(t);
           break;
         }
@@ -215,7 +212,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
           if (!isBlack(c.L) && c.weight > 0) add(c.L * c.weight);
         }
         // A merge uses s >= 1 light vertices, s + t − 1 segments: none fits beyond t = max_depth.
-        if (settings_.merging() && t <= maxSeg && mergeable(camera[size_t(t - 1)])) mergeAt(t);
+        if (settings_.merging() && t <= maxSeg && camera[size_t(t - 1)].mergeable()) mergeAt(t);
       }
     }
     image.add(x, y, L * at.weight, pass, film);  // this tile owns pixel (x, y); the filter's weight (core/filter.h)

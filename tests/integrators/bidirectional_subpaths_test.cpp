@@ -35,14 +35,23 @@ TEST(BidirectionalSubpaths, AWalkEndingAtItsFirstNonSpecularVertexIsTheFullWalks
                                           bidir::WalkStop::AtFirstNonSpecular);
     ASSERT_LE(ns, nf) << "path " << i;
     for (int k = 0; k < ns; ++k) {
-      ASSERT_EQ(stopped[size_t(k)].p, full[size_t(k)].p) << "path " << i << ", vertex " << k;
-      ASSERT_EQ(stopped[size_t(k)].beta, full[size_t(k)].beta) << "path " << i << ", vertex " << k;
+      const Vertex &x = stopped[size_t(k)], &y = full[size_t(k)];
+      ASSERT_EQ(x.p, y.p) << "path " << i << ", vertex " << k;
+      ASSERT_EQ(x.beta, y.beta) << "path " << i << ", vertex " << k;
+      ASSERT_EQ(x.pdfFwd, y.pdfFwd) << "path " << i << ", vertex " << k;
+      ASSERT_EQ(x.type, y.type) << "path " << i << ", vertex " << k;
+      // The last vertex's lobe is never sampled in the shortened walk.
+      if (k + 1 < ns) {
+        ASSERT_EQ(x.delta, y.delta) << "path " << i << ", vertex " << k;
+      }
     }
-    // Every vertex between the camera and the last is specular; the last is
-    // the first non-specular one, unless the full walk ended there too.
+    // Every vertex between the camera and the last is specular (its material
+    // is, from the scene's definition); the last is one photons are merged
+    // at (as VCM's ppm mode asks), unless the full walk ended there too.
     for (int k = 1; k + 1 < ns; ++k) ASSERT_TRUE(specular(stopped[size_t(k)])) << "path " << i << ", vertex " << k;
     if (ns < nf) {
       ASSERT_FALSE(specular(stopped[size_t(ns - 1)])) << "path " << i;
+      ASSERT_TRUE(stopped[size_t(ns - 1)].mergeable()) << "path " << i;
       ++endedByStop;
     }
     throughSpecular += ns > 2;
