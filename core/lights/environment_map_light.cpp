@@ -12,25 +12,38 @@ EnvironmentMapLight::EnvironmentMapLight(Image map, float scale, const Mat3& toW
   // summed past 3.4e38 and gave NaN probabilities: issue 34, class 1).
   float brightest = 0;
   for (const Color& c : map_.pixels) brightest = std::max({brightest, c.r, c.g, c.b});
-  const double unit = brightest > 0 ? 1.0 / double(brightest) : 1.0;
-  auto m = [&](int x, int y) {
-    const Color& c = map_.at(x, y);
-    return double(std::max({c.r, c.g, c.b})) * unit;
-  };
-  auto sinTheta = [&](int y) { return std::sin(Pi * (y + 0.5) / map_.height); };
-  full_ = texelDistribution([&](int x, int y) { return m(x, y) * sinTheta(y); });
-  // The mean of m over the sphere, in the measure the distribution itself
-  // uses (sin θ at texel centres). A texel within a millionth of the mean
-  // counts as at it: a constant map's rounding must not become a distribution.
-  double weighted = 0, area = 0;
-  for (int y = 0; y < map_.height; ++y)
-    for (int x = 0; x < map_.width; ++x) weighted += m(x, y) * sinTheta(y), area += sinTheta(y);
-  const double mean = area > 0 ? weighted / area : 0;
-  compensated_ = texelDistribution([&](int x, int y) {
-    double above = m(x, y) - mean;
-    return above > 1e-6 * mean ? above * sinTheta(y) : 0.0;
+  unit_ = brightest > 0 ? 1.0 / double(brightest) : 1.0;
+  rowSinTheta_.resize(size_t(map_.height));
+  for (int y = 0; y < map_.height; ++y) rowSinTheta_[size_t(y)] = std::sin(Pi * (y + 0.5) / map_.height);
+  full_ = texelDistribution([&](int x, int y) { return relativeMax(x, y) * rowSinTheta_[size_t(y)]; });
+}
+
+double EnvironmentMapLight::relativeMax(int x, int y) const {
+  const Color& c = map_.at(x, y);
+  return double(std::max({c.r, c.g, c.b})) * unit_;
+}
+
+// Built on first use, once (path tracing with mis_compensation is the only
+// user: no other estimator pays its memory or time).
+const EnvironmentMapLight::TexelDistribution& EnvironmentMapLight::distribution(bool compensated) const {
+  if (!compensated) return full_;
+  std::call_once(compensatedOnce_, [this] {
+    // The mean of m over the sphere, in the measure the distribution itself
+    // uses (sin θ at texel centres). A texel within a millionth of the mean
+    // counts as at it: a constant map's rounding must not become a distribution.
+    double weighted = 0, area = 0;
+    for (int y = 0; y < map_.height; ++y)
+      for (int x = 0; x < map_.width; ++x)
+        weighted += relativeMax(x, y) * rowSinTheta_[size_t(y)], area += rowSinTheta_[size_t(y)];
+    const double mean = area > 0 ? weighted / area : 0;
+    compensated_ = texelDistribution([&](int x, int y) {
+      double above = relativeMax(x, y) - mean;
+      return above > 1e-6 * mean ? above * rowSinTheta_[size_t(y)] : 0.0;
+    });
+    compensatedIsFull_ = !(compensated_.rows.total() > 0);
+    if (compensatedIsFull_) compensated_ = {};
   });
-  if (!(compensated_.rows.total() > 0)) compensated_ = full_;
+  return compensatedIsFull_ ? full_ : compensated_;
 }
 
 template <typename Weight>

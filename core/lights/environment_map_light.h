@@ -22,6 +22,7 @@
 // Both directions, as every light: sampleLi/pdfLi for next-event estimation,
 // sampleLe/pdfLe (a direction from the same distribution, a point on a disc
 // covering the scene) for light tracing, BDPT, VCM and the photon methods.
+#include <mutex>
 #include <vector>
 #include "core/image.h"
 #include "core/lights/light.h"
@@ -62,7 +63,8 @@ class EnvironmentMapLight final : public Light {
   // Weights w(x, y) for every texel, m(x, y) × sin θ as above (m relative to the brightest texel).
   template <typename Weight>
   TexelDistribution texelDistribution(Weight&& w) const;
-  const TexelDistribution& distribution(bool compensated) const { return compensated ? compensated_ : full_; }
+  const TexelDistribution& distribution(bool compensated) const;
+  double relativeMax(int x, int y) const;  // max(r, g, b) of a texel over the brightest texel's
   // A direction towards the environment, and its solid-angle pdf (0: none).
   Vec3 sampleDirection(Vec2 u, float* pdf, bool compensated = false) const;
   Vec2 uvOf(const Vec3& worldDir) const;
@@ -73,7 +75,12 @@ class EnvironmentMapLight final : public Light {
   float scale_;
   Mat3 toWorld_, toMap_;
   bool importance_;
-  TexelDistribution full_, compensated_;
+  double unit_ = 1;                  // 1 / the brightest texel's max(r, g, b)
+  std::vector<double> rowSinTheta_;  // sin θ at each row's centre
+  TexelDistribution full_;
+  mutable std::once_flag compensatedOnce_;
+  mutable TexelDistribution compensated_;
+  mutable bool compensatedIsFull_ = false;
   Vec3 center_{0.f};
   float radius_ = 1;
 };
