@@ -175,13 +175,13 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   // vertex's light samples.
   auto emissionWeight = [&](const Light* light, float pdfLi) {
     if (s.prevDelta || !settings_.nee) return 1.f;
-    float lightPdf = lightPmf(c.scene, s.prevPoint, light) * pdfLi;
+    float pdfLight = lightPmf(c.scene, s.prevPoint, light) * pdfLi;
     switch (settings_.mis) {
       case MisHeuristic::None: return 0.f;
       // w_f / (1 − q): the division by the strategy's selection probability.
       case MisHeuristic::OneSample:
-        return s.prevLightChosen ? 0.f : oneSampleMisWeights(q, lightPdf, s.prevPdf).bsdf / (1 - q);
-      default: return misWeight(s.prevBsdfCount, s.prevPdf, float(settings_.shadowRays), lightPdf);
+        return s.prevLightChosen ? 0.f : oneSampleMisWeights(q, pdfLight, s.prevPdf).bsdf / (1 - q);
+      default: return misWeight(s.prevBsdfCount, s.prevPdf, float(settings_.shadowRays), pdfLight);
     }
   };
   if (!hit) {

@@ -14,6 +14,7 @@
 //   shadow_rays N, first_bounce_samples M  splitting
 //   light_selection scene | uniform | power | spatial
 //   engine     single_ray | wavefront    one path at a time, or rays in streams (wavefront.h)
+//   mis_compensation                     NEE from lights' MIS-compensated densities (core/lights/light.h)
 //   max_depth, rr, rr_depth              path length and roulette (path_length.h)
 // (these are the `path` integrator's keys, read by PathTracerSettings::read)
 //
