@@ -185,8 +185,8 @@ const ConsistentCase CacheGlass{GlassSphere, StratifiedCacheMethod, 16}, CacheRi
 // which PhotonOnTheGlassSphere tests on this scene, and the cache's use of
 // them is held to 5 % on the metal ring and through the enclosed light's
 // glass below. Run it by hand after a change to how the cache takes caustics:
-//   ./build/tests/integrator_tests --gtest_also_run_disabled_tests \
-//     --gtest_filter=ConsistentScenes.DISABLED_CacheOnTheGlassSphere
+//   ./build/tests/integrator_tests --gtest_also_run_disabled_tests
+//     --gtest_filter=ConsistentScenes.DISABLED_CacheOnTheGlassSphere   (one command line)
 TEST(ConsistentScenes, DISABLED_CacheOnTheGlassSphere) { expectConsistent(CacheGlass, {2, 0.5}, 0.035, Alpha); }
 TEST(ConsistentScenes, CacheOnTheMetalRing) { expectConsistent(CacheRing, {2, 0.5}, 0.025, Alpha); }
 // Not resolved above the noise at any p swept: the allowance only.

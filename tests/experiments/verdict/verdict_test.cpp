@@ -167,7 +167,9 @@ TEST(Verdict, RepeatIntervalIncludesTheReferencesPart) {
                 100.0 * channelsIndependent / seeds);
     EXPECT_GE(double(covered) / seeds, 0.95 - allowance);  // at least nominal: valid, if conservative
     EXPECT_LT(double(withoutReference) / seeds, 0.95 - allowance);
-    if (grey) EXPECT_LT(double(channelsIndependent) / seeds, 0.95 - allowance);
+    if (grey) {
+      EXPECT_LT(double(channelsIndependent) / seeds, 0.95 - allowance);
+    }
   }
 }
 
