@@ -13,6 +13,7 @@
 #include "core/image.h"
 #include "core/lights/environment_map_light.h"
 #include "tests/support/render_helpers.h"
+#include "tests/support/sky_maps.h"
 #include "tests/support/statistics.h"
 
 namespace lb::test {
@@ -21,20 +22,6 @@ namespace {
 constexpr double Alpha = 0.01;
 const Bounds3 SceneBounds{Vec3(-1.f), Vec3(1.f)};
 
-// A sky with a sun: most texels are below the mean (the sun lifts it), so
-// the compensated density is zero over most of the sphere.
-Image sunnySky(int w = 64, int h = 32) {
-  Image map(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      double u = (x + 0.5) / w, v = (y + 0.5) / h;
-      double sun = 30 * std::exp(-(std::pow(u - 0.3, 2) + std::pow(v - 0.3, 2)) / 0.01);
-      map.at(x, y) = Color(float(0.2 + sun), float(0.3 + 0.5 * (1 - v) + sun), float(0.6 * (1 - v) + 0.8 * sun));
-    }
-  return map;
-}
-
-Mat3 rotation(float degrees, Vec3 axis) { return Mat3(glm::rotate(Mat4(1.f), glm::radians(degrees), glm::normalize(axis))); }
 
 // The density from the definition. A texel is chosen with probability
 // P ∝ max(0, m − m̄) · ΔΩ, m = max(r, g, b) of the texel, m̄ = ∫ m dω / 4π,
@@ -75,8 +62,8 @@ struct DefinitionDensity {
 };
 
 TEST(EnvironmentMapCompensation, DensityIsTheMapAboveItsMean) {
-  const Image map = sunnySky();
-  const Mat3 toWorld = rotation(35.f, Vec3(0.3f, 1, 0));  // the map's frame must be undone
+  const Image map = skyWithSun();
+  const Mat3 toWorld = rotationAbout(35.f, Vec3(0.3f, 1, 0));  // the map's frame must be undone
   EnvironmentMapLight env(map, 2.f, toWorld, true);
   env.preprocess(SceneBounds);
   DefinitionDensity expected(map);
@@ -104,7 +91,7 @@ TEST(EnvironmentMapCompensation, DensityIsTheMapAboveItsMean) {
 }
 
 TEST(EnvironmentMapCompensation, SamplerMatchesItsDensity) {
-  EnvironmentMapLight env(sunnySky(), 1.f, rotation(-20.f, Vec3(1, 0, 0.5f)), true);
+  EnvironmentMapLight env(skyWithSun(), 1.f, rotationAbout(-20.f, Vec3(1, 0, 0.5f)), true);
   env.preprocess(SceneBounds);
   SphereHistogramTest t;
   auto r = t.run(
@@ -150,7 +137,7 @@ std::string diffuseScene(const std::string& mapPath) {
 TEST(EnvironmentMapCompensation, PathTracingAgreesWithAndWithoutIt) {
   std::string path = (std::filesystem::temp_directory_path() /
                       ("lightbench-sunny-" + std::to_string(getpid()) + ".exr")).string();
-  writeExr(path, sunnySky());
+  writeExr(path, skyWithSun());
   SceneFile scene = loadSceneFromString(diffuseScene(path), "/tmp/scene.yaml");
   std::filesystem::remove(path);
   auto plain = renderScene(scene, {"path", "{max_depth: 4}", 1024, 72});

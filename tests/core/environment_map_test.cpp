@@ -11,6 +11,7 @@
 #include "core/lights/environment_map_light.h"
 #include "core/rng.h"
 #include "tests/support/render_helpers.h"
+#include "tests/support/sky_maps.h"
 #include "tests/support/statistics.h"
 
 namespace lb::test {
@@ -19,24 +20,10 @@ namespace {
 constexpr double Alpha = 0.01;
 const Bounds3 SceneBounds{Vec3(-1.f), Vec3(1.f)};
 
-// A smooth sky (so that the χ² harness's quadrature of the piecewise-constant
-// pdf stays accurate) with a bright sun and a colour gradient.
-Image skyMap(int w = 64, int h = 32) {
-  Image map(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      double u = (x + 0.5) / w, v = (y + 0.5) / h;
-      double sun = 30 * std::exp(-(std::pow(u - 0.3, 2) + std::pow(v - 0.3, 2)) / 0.01);
-      map.at(x, y) = Color(float(0.2 + sun), float(0.3 + 0.5 * (1 - v) + sun), float(0.6 * (1 - v) + 0.8 * sun));
-    }
-  return map;
-}
-
-Mat3 rotation(float degrees, Vec3 axis) { return Mat3(glm::rotate(Mat4(1.f), glm::radians(degrees), glm::normalize(axis))); }
 
 TEST(EnvironmentMap, SampleLiMatchesPdfLi) {
   for (bool importance : {true, false}) {
-    EnvironmentMapLight env(skyMap(), 1.f, rotation(30.f, Vec3(0, 1, 0)), importance);
+    EnvironmentMapLight env(skyWithSun(), 1.f, rotationAbout(30.f, Vec3(0, 1, 0)), importance);
     env.preprocess(SceneBounds);
     SphereHistogramTest t;
     auto r = t.run(
@@ -51,7 +38,7 @@ TEST(EnvironmentMap, SampleLiMatchesPdfLi) {
 }
 
 TEST(EnvironmentMap, EmittedDirectionsMatchPdfLe) {
-  EnvironmentMapLight env(skyMap(), 1.f, rotation(-50.f, Vec3(1, 1, 0.3f)), true);  // a general to_world
+  EnvironmentMapLight env(skyWithSun(), 1.f, rotationAbout(-50.f, Vec3(1, 1, 0.3f)), true);  // a general to_world
   env.preprocess(SceneBounds);
   Pcg32 positions(63, 1);
   SphereHistogramTest t;
@@ -75,7 +62,7 @@ TEST(EnvironmentMap, EmittedDirectionsMatchPdfLe) {
 // of the sampler, its Jacobian and its pdf. z-test with the sample variance.
 TEST(EnvironmentMap, EstimatorMeanIsTheIntegralOfTheMap) {
   for (bool importance : {true, false}) {
-    EnvironmentMapLight env(skyMap(), 2.f, rotation(10.f, Vec3(0, 1, 0)), importance);
+    EnvironmentMapLight env(skyWithSun(), 2.f, rotationAbout(10.f, Vec3(0, 1, 0)), importance);
     env.preprocess(SceneBounds);
     const Color exact = env.integral();
     Pcg32 rng(65, importance ? 1 : 2);
@@ -142,7 +129,7 @@ TEST(EnvironmentMap, AConstantMapRendersAsTheConstantEnvironment) {
 // emits from the map) agree on a glossy sphere lit by a sky with a sun; so
 // does light tracing where the camera first sees the diffuse floor.
 TEST(EnvironmentMap, PathBdptAndLightTracingAgreeOnAGlossyObject) {
-  std::string path = writeMap(skyMap(), "lightbench-sky-map");
+  std::string path = writeMap(skyWithSun(), "lightbench-sky-map");
   SceneFile scene = loadSceneFromString(glossyScene("{type: environment, file: " + path + ", rotate_y: 40}"),
                                         "/tmp/scene.yaml");
   std::filesystem::remove(path);
@@ -188,7 +175,7 @@ TEST(EnvironmentMap, OneLitTexelShinesFromWhereMitsubaPutsIt) {
   EnvironmentMapLight unrotated(map, 1.f, Mat3(1.f), true);
   EXPECT_EQ(unrotated.Le(dMap).r, 1.f);
   EXPECT_EQ(unrotated.Le(Vec3(dMap.x, dMap.y, -dMap.z)).r, 0.f);  // mirrored front to back: another texel
-  const Mat3 r = rotation(90.f, Vec3(0, 1, 0));
+  const Mat3 r = rotationAbout(90.f, Vec3(0, 1, 0));
   EnvironmentMapLight turned(map, 1.f, r, true);
   EXPECT_EQ(turned.Le(r * dMap).r, 1.f);
   EXPECT_EQ(turned.Le(glm::transpose(r) * dMap).r, 0.f);
