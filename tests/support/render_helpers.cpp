@@ -141,6 +141,13 @@ double pointLightOverPlane(const Camera& cam, Vec3 light, float I, float rho) {
   return exact / (double(cam.width()) * cam.height() * q * q);
 }
 
+std::string compareScenes(const SceneFile& a, const SceneFile& b, RenderSpec spec, double alpha) {
+  auto filmA = renderScene(a, spec);
+  spec.seed += 1;
+  auto filmB = renderScene(b, spec);
+  return compareRegions(regionMeans(*filmA, 4, 4), regionMeans(*filmB, 4, 4), alpha);
+}
+
 std::string compareRegions(const RegionMeans& a, const RegionMeans& b, double alpha) {
   int n = int(a.mean.size());
   double critical = normalCritical(sidak(alpha, n));

@@ -75,4 +75,10 @@ double pointLightOverPlane(const Camera& camera, Vec3 light, float intensity, fl
 // returns a description of every failing region (empty when all pass).
 std::string compareRegions(const RegionMeans& a, const RegionMeans& b, double alpha);
 
+// Two scenes that should render alike (an imported scene and one written by
+// hand, instanced and flattened shapes, a constant map and the constant
+// environment): `spec` on each, the first with spec.seed and the second with
+// spec.seed + 1, compared by compareRegions on 4×4 regions at level alpha.
+std::string compareScenes(const SceneFile& a, const SceneFile& b, RenderSpec spec, double alpha = 1e-3);
+
 }  // namespace lb::test
