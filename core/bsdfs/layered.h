@@ -41,18 +41,12 @@ struct LayeredParams {
   int samples = 1;
 };
 
-class Layered final : public Material {
+class Layered final : public LobeTexturedMaterial {
  public:
   // `base` reflects only (a Diffuse or a conductor); a texture scales its f.
   Layered(const LayeredParams& params, std::unique_ptr<Material> base);
   ~Layered() override;
 
-  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override {
-    return evalTextured(wo, wi, mode, Color(1.f));
-  }
-  std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override {
-    return sampleTextured(wo, uLobe, u, mode, Color(1.f));
-  }
   BSDFEval evalTextured(const Vec3& wo, const Vec3& wi, TransportMode mode, const Color& texture) const override;
   std::optional<BSDFSample> sampleTextured(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode,
                                            const Color& texture) const override;

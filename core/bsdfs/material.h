@@ -107,4 +107,20 @@ class Material {
   SurfaceMaps maps_;
 };
 
+// A material whose texture is not a factor on f (plastic's scales its
+// diffuse base only; a layered BSDF's, its base): it implements the textured
+// forms, and eval() and sample() are them with a texture of 1.
+class LobeTexturedMaterial : public Material {
+ public:
+  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const final {
+    return evalTextured(wo, wi, mode, Color(1.f));
+  }
+  std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const final {
+    return sampleTextured(wo, uLobe, u, mode, Color(1.f));
+  }
+  BSDFEval evalTextured(const Vec3& wo, const Vec3& wi, TransportMode mode, const Color& texture) const override = 0;
+  std::optional<BSDFSample> sampleTextured(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode,
+                                           const Color& texture) const override = 0;
+};
+
 }  // namespace lb

@@ -58,17 +58,11 @@ struct PlasticParams {
 // eta ≥ 1; Egan & Hilgeman 1973 below).
 float fresnelDiffuseReflectance(float eta);
 
-class Plastic final : public Material {
+class Plastic final : public LobeTexturedMaterial {
  public:
   static constexpr int TableSize = 64;
   explicit Plastic(const PlasticParams& params);
 
-  BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const override {
-    return evalTextured(wo, wi, mode, Color(1.f));
-  }
-  std::optional<BSDFSample> sample(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode) const override {
-    return sampleTextured(wo, uLobe, u, mode, Color(1.f));
-  }
   BSDFEval evalTextured(const Vec3& wo, const Vec3& wi, TransportMode mode, const Color& texture) const override;
   std::optional<BSDFSample> sampleTextured(const Vec3& wo, float uLobe, Vec2 u, TransportMode mode,
                                            const Color& texture) const override;
