@@ -196,7 +196,8 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       // on the way count directly, the rest is merged there.
       for (int t = 2; t <= nc; ++t) {
         const Vertex& v = camera[size_t(t - 1)];
-        if (v.isLight()) add(bidir::connect(scene, sampler, settings_.mis, light, camera, 0, t, rays).L);
+        // An emitter seen on the way (s = 0), unweighted: no densities needed.
+        if (v.isLight()) add(v.beta * bidir::emitted(scene, v, camera[size_t(t - 2)]));
         if (v.mergeable()) {
           mergeAt(t);
           break;
