@@ -8,7 +8,7 @@ Color PixelIntegrator::samplePixel(const Scene& scene, Sampler& sampler, int x, 
                                    uint64_t& rays) const {
   sampler.start(uint64_t(y) * scene.camera.width() + x, sample);
   Camera::FilmSample film = scene.camera.sampleFilm(x, y, sampler.get2D());  // the pixel filter (core/filter.h)
-  return Li(scene.camera.generateRay(film.raster), scene, sampler, rays) * film.weight;
+  return pixelLi(x, y, scene.camera.generateRay(film.raster), scene, sampler, rays) * film.weight;
 }
 
 void PixelIntegrator::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass,

@@ -82,6 +82,12 @@ class PixelIntegrator : public Integrator {
  protected:
   // Radiance arriving along `ray`; `rays` counts the rays traced.
   virtual Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const = 0;
+  // The same for a camera sample of pixel (x, y): for an estimator that
+  // keeps something per pixel (path's variance-aware MIS); by default Li().
+  virtual Color pixelLi(int /*x*/, int /*y*/, const Ray& ray, const Scene& scene, Sampler& sampler,
+                        uint64_t& rays) const {
+    return Li(ray, scene, sampler, rays);
+  }
 
  private:
   Color samplePixel(const Scene& scene, Sampler& sampler, int x, int y, uint64_t sample, uint64_t& rays) const;

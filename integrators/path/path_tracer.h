@@ -22,7 +22,10 @@ class PathTracer final : public PixelIntegrator {
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   // Adaptive sampling runs pixel by pixel, on the single-ray engine.
   std::string adaptiveRefusal() const override {
-    return wavefront_ ? "engine: wavefront traces whole passes; use engine: single_ray" : "";
+    if (wavefront_) return "engine: wavefront traces whole passes; use engine: single_ray";
+    if (estimator_.settings().mis == MisHeuristic::VarianceAware)
+      return "mis: variance_aware learns its factors from whole passes";
+    return "";
   }
   const PathEstimator& estimator() const { return estimator_; }
 
@@ -30,10 +33,15 @@ class PathTracer final : public PixelIntegrator {
   Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override {
     return estimator_.Li(ray, scene, sampler, rays);
   }
+  Color pixelLi(int x, int y, const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override;
 
  private:
   PathEstimator estimator_;
   std::unique_ptr<class WavefrontEngine> wavefront_;  // engine: wavefront
+  // mis: variance_aware: the factors, learned in the first pilot_passes
+  // passes this integrator renders (variance_aware_mis.h).
+  std::unique_ptr<VarianceAwareMis> varianceAware_;
+  int pilotPassesDone_ = 0;
 };
 
 }  // namespace lb

@@ -15,13 +15,34 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                         : DirectionSampling::Uniform;
   }
   s.nee = p.getBool("nee", true, "next-event estimation: shadow rays to sampled light points at each vertex");
-  std::string mis = p.getChoice("mis", "power", {"power", "balance", "none", "one_sample"},
-                                "weights of NEE against the sampled direction hitting a light (Veach 1997, 9.2); "
-                                "one_sample picks one of the two per vertex");
-  s.mis = mis == "power"     ? MisHeuristic::Power
-          : mis == "balance" ? MisHeuristic::Balance
-          : mis == "none"    ? MisHeuristic::None
-                             : MisHeuristic::OneSample;
+  // variance_aware's factors are per pixel, learned by the path integrator's
+  // passes: the estimator's other users (guided, which reads no direction
+  // keys, the irradiance cache, MLT) have no pixel to learn them for.
+  std::vector<std::string> heuristics = {"power", "balance", "none", "one_sample"};
+  std::string meaning =
+      "weights of NEE against the sampled direction hitting a light (Veach 1997, 9.2); one_sample picks one of the "
+      "two per vertex";
+  if (directionKeys) {
+    heuristics.push_back("variance_aware");
+    meaning += "; variance_aware: the balance heuristic scaled by each technique's learned second moment over "
+               "variance (Grittmann et al. 2019)";
+  }
+  std::string mis = p.getChoice("mis", "power", heuristics, meaning);
+  s.mis = mis == "power"          ? MisHeuristic::Power
+          : mis == "balance"      ? MisHeuristic::Balance
+          : mis == "none"         ? MisHeuristic::None
+          : mis == "one_sample"   ? MisHeuristic::OneSample
+                                  : MisHeuristic::VarianceAware;
+  if (s.mis == MisHeuristic::VarianceAware || (p.describing() && directionKeys)) {
+    p.setCondition("mis: variance_aware");
+    s.pilotPasses = p.getInt("pilot_passes", 1,
+                             {"first passes, weighted by the balance heuristic, whose samples estimate each "
+                              "technique's moments (kept in the image)",
+                              Range::between(1, 64)});
+    s.factorBlock = std::stoi(p.getChoice("factor_block", "8", {"1", "2", "4", "8", "16"},
+                                          "pixels per side of the square blocks over which the moments are pooled"));
+    p.setCondition("");
+  }
   s.lightSelectionProbability =
       p.getFloat("light_selection_probability", 0.5f,
                  {"mis: one_sample: probability of taking the light sample at a vertex", Range::open(0, 1)});
@@ -55,6 +76,13 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                "mis: power, balance or one_sample)");
   if (s.misCompensation && s.sampling != DirectionSampling::Bsdf)
     p.fail("mis_compensation", "needs sampling: bsdf (cosine and uniform sampling miss transmitted directions)");
+  if (s.mis == MisHeuristic::VarianceAware) {
+    if (s.wavefront) p.fail("engine", "mis: variance_aware runs on engine: single_ray");
+    if (s.firstBounceSamples > 1)
+      p.fail("first_bounce_samples", "mis: variance_aware counts one BSDF sample per vertex; use 1");
+    if (s.emissionSelection > 0)
+      p.fail("emission_selection", "mis: variance_aware learns from the emission counted in full; use 0");
+  }
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
   if (s.mis == MisHeuristic::OneSample && s.shadowRays > 1)
@@ -99,19 +127,21 @@ float PathEstimator::lightPmf(const Scene& scene, const Vec3& p, const Light* li
 float PathEstimator::misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const {
   switch (settings_.mis) {
     case MisHeuristic::Power: return powerHeuristic(nThis * pdfThis, nOther * pdfOther);
-    case MisHeuristic::Balance: return balanceHeuristic(nThis * pdfThis, nOther * pdfOther);
+    case MisHeuristic::Balance:
+    case MisHeuristic::VarianceAware: return balanceHeuristic(nThis * pdfThis, nOther * pdfOther);
     default: return 1.f;
   }
 }
 
 Color PathEstimator::incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxDepth,
-                                   bool firstEmission, float* firstHitDistance) const {
+                                   bool firstEmission, float* firstHitDistance,
+                                   const VarianceAwareView* varianceAware) const {
   if (firstHitDistance) *firstHitDistance = Infinity;
   if (maxDepth < 1) return Color(0.f);  // max_depth 0 renders black
   PathState state;
   state.ray = ray;
   state.prevPoint = ray.o;
-  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension()};
+  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension(), nullptr, varianceAware};
   return trace(state, ctx, rays, firstHitDistance, nullptr);
 }
 
@@ -133,7 +163,9 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     const Color afterEmission = L;
     for (int i = 0; i < n; ++i) {
       ++rays;
-      if (!c.scene.occluded(shadows[i].ray)) L += shadows[i].contribution;
+      if (c.scene.occluded(shadows[i].ray)) continue;
+      L += shadows[i].contribution;
+      if (c.varianceAware) c.varianceAware->record(shadows[i].segments, MisTechnique::Light, shadows[i].unweighted);
     }
     if (observer) observer->shaded(si, bsdf ? &*bsdf : nullptr, afterEmission - before, L - before);
     if (!bsdf) break;
@@ -173,6 +205,16 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   };
   // Emission reached by this segment, MIS-weighted against the previous
   // vertex's light samples.
+  // Variance-aware MIS: technique t's factor for paths of `length` segments.
+  auto factor = [&](int length, MisTechnique t) {
+    return c.varianceAware ? c.varianceAware->factor(length, t) : 1.f;
+  };
+  // A BSDF-sampled segment reaching emission L_e (times β): its unweighted
+  // estimate, where it competes with light sampling, is a variance-aware pilot's sample.
+  auto recordEmission = [&](const Color& betaLe) {
+    if (c.varianceAware && !s.prevDelta && settings_.nee)
+      c.varianceAware->record(segments, MisTechnique::Bsdf, luminance(betaLe));
+  };
   auto emissionWeight = [&](const Light* light, float pdfLi) {
     if (s.prevDelta || !settings_.nee) return 1.f;
     float pdfLight = lightPmf(c.scene, s.prevPoint, light) * pdfLi;
@@ -181,20 +223,25 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
       // w_f / (1 − q): the division by the strategy's selection probability.
       case MisHeuristic::OneSample:
         return s.prevLightChosen ? 0.f : oneSampleMisWeights(q, pdfLight, s.prevPdf).bsdf / (1 - q);
-      default: return misWeight(s.prevBsdfCount, s.prevPdf, float(settings_.shadowRays), pdfLight);
+      default:
+        return misWeight(s.prevBsdfCount * factor(segments, MisTechnique::Bsdf), s.prevPdf,
+                         float(settings_.shadowRays) * factor(segments, MisTechnique::Light), pdfLight);
     }
   };
   if (!hit) {
     if (!countEmission) return 0;
     for (const Light* env : c.scene.infiniteLights()) {
       Color Le = env->Le(s.ray.d);
-      if (!isBlack(Le)) L += s.beta * Le * emissionWeight(env, lightPdf(*env, s.prevPoint, s.ray.d, {}, {}));
+      if (isBlack(Le)) continue;
+      L += s.beta * Le * emissionWeight(env, lightPdf(*env, s.prevPoint, s.ray.d, {}, {}));
+      recordEmission(s.beta * Le);
     }
     return 0;
   }
   bool canContinue = segments < c.maxDepth && si.material;
   if (si.emitter && countEmission) {
     Color Le = si.emitter->L(si.ng, si.wo);
+    recordEmission(s.beta * Le);
     Color emitted = isBlack(Le) ? Color(0.f)
                                 : s.beta * Le *
                                       emissionWeight(si.emitter, lightPdf(*si.emitter, s.prevPoint, s.ray.d, si.p, si.ng));
@@ -247,10 +294,15 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
         }
     } else {
       const int N = settings_.shadowRays;
+      const int length = segments + 1;  // the light sample's path: this vertex's, plus the segment to the light
       for (int i = 0; i < N; ++i)
         if (auto d = lightSample(i)) {
-          float w = d->sample.deltaLight ? 1.f : misWeight(float(N), d->sample.lightPdf, bsdfCount, scatterPdf(d->sample));
-          shadows[n++] = {d->shadowRay, s.beta * d->sample.contribution * (w / float(N))};
+          bool weighted = !d->sample.deltaLight;
+          float w = weighted ? misWeight(float(N) * factor(length, MisTechnique::Light), d->sample.lightPdf,
+                                         bsdfCount * factor(length, MisTechnique::Bsdf), scatterPdf(d->sample))
+                             : 1.f;
+          Color unweighted = s.beta * d->sample.contribution;
+          shadows[n++] = {d->shadowRay, unweighted * (w / float(N)), weighted ? luminance(unweighted) : 0.f, length};
         }
     }
   }

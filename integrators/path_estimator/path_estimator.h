@@ -7,8 +7,9 @@
 //
 //   sampling   bsdf | cosine | uniform   how non-delta bounces choose directions
 //   nee        true | false              next-event estimation (light samples at each vertex)
-//   mis        power | balance | none | one_sample
+//   mis        power | balance | none | one_sample | variance_aware
 //                                        how NEE and emitter hits are combined
+//   pilot_passes, factor_block           variance_aware: its pilot and pooling (variance_aware_mis.h)
 //   light_selection_probability q        one_sample: the chance of taking the light sample
 //   emission_selection p                 emit-vs-reflect: end at an emitter with chance p
 //   shadow_rays N, first_bounce_samples M  splitting
@@ -24,6 +25,9 @@
 // Estimators (each cited where it is computed in path_tracer.cpp):
 //  * multi-sample MIS with N light samples and M (first vertex) or 1 BSDF
 //    samples: weights w_i = h(n_i p_i, n_j p_j), Veach 1997 Eq. 9.12-9.13;
+//  * variance-aware MIS (Grittmann et al. 2019): the balance heuristic over
+//    c_i n_i p_i, c_i learned per pixel block and path length from pilot
+//    passes (variance_aware_mis.h);
 //  * one-sample MIS: one strategy per vertex, the light's with probability q;
 //    its estimate is w_L f/(q p_L) or w_f f/((1 − q) p_f) with the balance
 //    heuristic over the selection probabilities, w_i = c_i p_i / Σ c_k p_k
@@ -58,11 +62,12 @@
 #include "core/sampler.h"
 #include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
+#include "integrators/path_estimator/variance_aware_mis.h"
 #include "integrators/path_length.h"
 
 namespace lb {
 
-enum class MisHeuristic { None, Balance, Power, OneSample };
+enum class MisHeuristic { None, Balance, Power, OneSample, VarianceAware };
 enum class LightChoice { Scene, Uniform, Power, Spatial };
 
 struct PathTracerSettings {
@@ -76,6 +81,8 @@ struct PathTracerSettings {
   LightChoice lightSelection = LightChoice::Scene;
   bool wavefront = false;  // engine: wavefront (wavefront.h) instead of one ray at a time
   bool misCompensation = false;  // NEE from lights' MIS-compensated densities (core/lights/light.h)
+  int pilotPasses = 1;           // mis: variance_aware: passes that learn its factors
+  int factorBlock = 8;           // mis: variance_aware: pixels per side of the blocks its moments pool
   PathLength length;
 
   // Without `directionKeys`, the keys that change how directions are drawn
@@ -124,6 +131,7 @@ struct PathContext {
   bool firstEmission;
   uint32_t entryDimension;
   DirectionGuide* guide = nullptr;
+  const VarianceAwareView* varianceAware = nullptr;  // mis: variance_aware: this sample's factors
 };
 
 // A light sample waiting for its visibility test: `contribution` (weighted,
@@ -131,6 +139,8 @@ struct PathContext {
 struct ShadowRequest {
   Ray ray;
   Color contribution;
+  float unweighted = 0;  // mis: variance_aware pilots: the luminance of the sample's estimate before MIS
+  int segments = 0;      // … and its path length
 };
 
 // Watches a path vertex by vertex, for a caller that learns from it (the
@@ -169,10 +179,14 @@ class PathEstimator {
   // sampler.dimension(); the sampler is left at no particular dimension, so a
   // caller restarts it (start()) before drawing again.
   Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
-                         bool firstEmission, float* firstHitDistance = nullptr) const;
+                         bool firstEmission, float* firstHitDistance = nullptr,
+                         const VarianceAwareView* varianceAware = nullptr) const;
   // A camera path: all of max_depth, emission of the first hit included.
-  Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
-    return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true);
+  // `varianceAware`: this pixel's factors (mis: variance_aware; the path
+  // integrator owns the table).
+  Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays,
+           const VarianceAwareView* varianceAware = nullptr) const {
+    return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true, nullptr, varianceAware);
   }
 
   // The estimator, one vertex at a time, shared by the single-ray loop and

@@ -1,6 +1,6 @@
 // The path tracer's classic variants (one-sample MIS, emit vs reflect,
-// splitting, light selection) estimate the same image as the default path
-// tracer: region z-tests (testing.md §3) with bounds from the films' measured
+// splitting, light selection, variance-aware MIS with its learned factors)
+// estimate the same image as the default path tracer: region z-tests (testing.md §3) with bounds from the films' measured
 // variance, on the Cornell box, Veach's MIS scene (four lights) and the
 // glass-sphere caustic. The independent sampler keeps each pixel's samples
 // independent, which the films' variance estimate assumes.
@@ -27,6 +27,8 @@ const std::vector<std::string> Variants = {
     "{light_selection: uniform}",
     "{light_selection: spatial}",
     "{light_selection: spatial, mis: one_sample}",
+    "{mis: variance_aware}",
+    "{mis: variance_aware, pilot_passes: 4, factor_block: 2, shadow_rays: 2}",
 };
 // Variants whose directions ignore the glossy lobes, or that find lights only
 // by hitting them: on Veach's plates and the caustic's small light their

@@ -252,7 +252,8 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
     EXPECT_NE(splits.find(item), std::string::npos) << item << " in " << splits;
   for (const char* name : {"`sppm`", "`photon`", "`mlt`", "`irradiance_cache`"})
     EXPECT_EQ(splits.find(name), std::string::npos) << name << " in " << splits;
-  EXPECT_NE(integratorsWith("adaptive").find("`path` (not with `engine: wavefront`)"), std::string::npos);
+  EXPECT_NE(integratorsWith("adaptive").find("`path` (not with `mis: variance_aware` or `engine: wavefront`)"),
+            std::string::npos);
   EXPECT_EQ(integratorsWith("adaptive").find("`bdpt`"), std::string::npos);
   EXPECT_THROW(integratorsWith("fast"), ConfigError);
   // Those that cannot be split carry their own reason (splitRefusal()).
