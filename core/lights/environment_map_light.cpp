@@ -128,11 +128,15 @@ Vec3 EnvironmentMapLight::sampleDirection(Vec2 u, float* pdf, bool compensated) 
   return directionOf(uv);
 }
 
-std::optional<LightSample> EnvironmentMapLight::sampleLi(const Vec3& ref, float, Vec2 u) const {
+std::optional<LightSample> EnvironmentMapLight::sampleLiFrom(const Vec3& ref, Vec2 u, bool compensated) const {
   float pdf = 0;
-  Vec3 wi = sampleDirection(u, &pdf);
+  Vec3 wi = sampleDirection(u, &pdf, compensated);
   if (!(pdf > 0)) return std::nullopt;
   return LightSample{Le(wi), wi, pdf, ref + wi * (2 * radius_ + glm::length(ref - center_))};
+}
+
+std::optional<LightSample> EnvironmentMapLight::sampleLi(const Vec3& ref, float, Vec2 u) const {
+  return sampleLiFrom(ref, u, false);
 }
 
 float EnvironmentMapLight::pdfLi(const Vec3&, const Vec3& wi, const Vec3&, const Vec3&) const {
@@ -140,10 +144,7 @@ float EnvironmentMapLight::pdfLi(const Vec3&, const Vec3& wi, const Vec3&, const
 }
 
 std::optional<LightSample> EnvironmentMapLight::sampleLiCompensated(const Vec3& ref, float, Vec2 u) const {
-  float pdf = 0;
-  Vec3 wi = sampleDirection(u, &pdf, true);
-  if (!(pdf > 0)) return std::nullopt;
-  return LightSample{Le(wi), wi, pdf, ref + wi * (2 * radius_ + glm::length(ref - center_))};
+  return sampleLiFrom(ref, u, true);
 }
 
 float EnvironmentMapLight::pdfLiCompensated(const Vec3&, const Vec3& wi, const Vec3&, const Vec3&) const {

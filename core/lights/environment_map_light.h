@@ -67,6 +67,8 @@ class EnvironmentMapLight final : public Light {
   double relativeMax(int x, int y) const;  // max(r, g, b) of a texel over the brightest texel's
   // A direction towards the environment, and its solid-angle pdf (0: none).
   Vec3 sampleDirection(Vec2 u, float* pdf, bool compensated = false) const;
+  // sampleLi and sampleLiCompensated: a point beyond the scene in a sampled direction.
+  std::optional<LightSample> sampleLiFrom(const Vec3& ref, Vec2 u, bool compensated) const;
   Vec2 uvOf(const Vec3& worldDir) const;
   Vec3 directionOf(Vec2 uv) const;
   const Color& texel(Vec2 uv) const;
