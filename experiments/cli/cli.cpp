@@ -94,7 +94,7 @@ int lightbenchMain(int argc, char** argv, Farm* farm) {
   auto* distributed = render->add_flag(
       "--distributed", r.distributed,
       "Render as independent seeded chunks of --chunk-spp passes, averaged in chunk order; under mpirun the chunks "
-      "are spread over the ranks, with the same bits for any number of ranks (path, light, bdpt, direct, vcm mode=bpt)");
+      "are spread over the ranks, with the same bits for any number of ranks (path, light, bdpt, direct, vcm mode=bpt or lvc)");
   render->add_option("--chunk-spp", r.chunkSpp, "Passes per chunk with --distributed (default 16; --spp must be a multiple)")
       ->needs(distributed)
       ->check(renderFlagCheck("--chunk-spp"));

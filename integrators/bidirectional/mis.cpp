@@ -27,15 +27,18 @@ struct Terms {
   double merge(const Vertex& v, bool delta) const {
     return allowed.mergeEta > 0 && mergeable(v, delta) ? heuristic(h, double(v.pdfFwd) * allowed.mergeEta) : 0.0;
   }
-  // Camera vertex z_k, k >= 1: the connection of z_{k-1} and z_k, a merge at z_k.
-  double camera(const Vertex& v, bool delta, bool deltaBefore) const {
-    return (allowed.connections && !delta && !deltaBefore ? 1.0 : 0.0) + merge(v, delta);
+  // h(n) of a connection with both s, t >= 2 (Techniques::connectionCount).
+  double count() const { return heuristic(h, allowed.connectionCount); }
+  // Camera vertex z_k, k >= 1: the connection of z_{k-1} and z_k (light
+  // tracing for k = 1), a merge at z_k.
+  double camera(const Vertex& v, int k, bool delta, bool deltaBefore) const {
+    return (allowed.connections && !delta && !deltaBefore ? (k == 1 ? 1.0 : count()) : 0.0) + merge(v, delta);
   }
   // Light vertex y_k: k = 0 the camera subpath hitting y_0 (s = 0); k >= 1 the
   // connection of y_{k-1} and y_k (k = 1 by next-event estimation) and a merge at y_k.
   double light(const Vertex& v, int k, bool delta, bool deltaBefore, double nee) const {
     if (k == 0) return !delta && !deltaBefore ? 1.0 : 0.0;
-    double c = allowed.connections && !delta && !deltaBefore ? (k == 1 ? heuristic(h, nee) : 1.0) : 0.0;
+    double c = allowed.connections && !delta && !deltaBefore ? (k == 1 ? heuristic(h, nee) : count()) : 0.0;
     return c + merge(v, delta);
   }
 };
@@ -61,7 +64,7 @@ void computePartialSums(const Scene& scene, MisWeighting h, const Techniques& al
     for (int k = 1; k < n; ++k) {
       Vertex& v = path[size_t(k)];
       zero |= !(v.pdfFwd > 0);
-      sum = heuristic(h, ratio(v.pdfRev, v.pdfFwd)) * (terms.camera(v, v.delta, path[size_t(k - 1)].delta) + sum);
+      sum = heuristic(h, ratio(v.pdfRev, v.pdfFwd)) * (terms.camera(v, k, v.delta, path[size_t(k - 1)].delta) + sum);
       v.misSum = sum, v.misBaseZero = zero;
     }
     return;
@@ -139,15 +142,17 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   if (t >= 2) {
     double r1 = rho(reverse.pt, *pt);
     // The strategy that connects z_{t-2} and z_{t-1} has s + 1 light
-    // vertices: next-event estimation when s = 0. A merge at z_{t-1} needs
-    // it not to be the light's own point (s = 0).
-    double a1 = allowed.connections && !ptMinus->delta ? (s == 0 ? heuristic(h, nee) : 1.0) : 0.0;
+    // vertices: next-event estimation when s = 0, light tracing when t = 2.
+    // A merge at z_{t-1} needs it not to be the light's own point (s = 0).
+    double a1 = allowed.connections && !ptMinus->delta ? (s == 0 ? heuristic(h, nee) : t == 2 ? 1.0 : terms.count())
+                                                       : 0.0;
     double m1 = s > 0 ? terms.merge(*pt, false) : 0.0;
     double inner = 0;
     if (t >= 3) {
       const Vertex& before = camera[size_t(t - 3)];
       zero |= before.misBaseZero;
-      inner = rho(reverse.ptMinus, *ptMinus) * (terms.camera(*ptMinus, ptMinus->delta, before.delta) + before.misSum);
+      inner = rho(reverse.ptMinus, *ptMinus) *
+              (terms.camera(*ptMinus, t - 2, ptMinus->delta, before.delta) + before.misSum);
     }
     cameraSide = r1 * (a1 + m1 + inner);
     mergeHere = r1 * m1;
@@ -180,7 +185,8 @@ TechniqueWeights techniqueWeights(const Scene& scene, MisWeighting h, const Tech
   // light[s-1] may be delta.
   double own = 0;
   if (s == 0) own = 1;
-  else if (allowed.connections && !(merged && s >= 2 && !qs->connectible())) own = s == 1 ? heuristic(h, nee) : 1.0;
+  else if (allowed.connections && !(merged && s >= 2 && !qs->connectible()))
+    own = s == 1 ? heuristic(h, nee) : t == 1 ? 1.0 : terms.count();
   double total = own + cameraSide + lightSide;
   if (!(total > 0)) return {};
   return {float(own / total), float(mergeHere / total)};

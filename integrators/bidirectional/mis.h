@@ -14,9 +14,12 @@
 //   (1)  ρ_k = pdfRev_k / pdfFwd_k,
 //   (2)  a_k = [x_k and x_{k-1} not delta] · c_k · [connections allowed]
 //              + [x_k mergeable] · h(pdfFwd_k · η)              (η = N π r², Georgiev et al. 2012 §4)
-//        with c_k = 1, except on the light subpath c_1 = h(p_NEE(y_0) / p_emit(y_0))
-//        (strategy s = 1 samples y_0 by next-event estimation, the base by emission)
-//        and a_0 = [y_0 and its light not delta] (strategy s = 0, always a competitor);
+//        with c_k = h(n) for a connection of n expected draws per sample
+//        (Techniques::connectionCount; 1 in BDPT), except c_1 = 1 on the
+//        camera subpath (light tracing, t = 1), c_1 = h(p_NEE(y_0) / p_emit(y_0))
+//        on the light subpath (strategy s = 1 samples y_0 by next-event
+//        estimation, the base by emission), and a_0 = [y_0 and its light not
+//        delta] (strategy s = 0, always a competitor);
 //   (3)  S_k = h(ρ_k) · (a_k + S_{k-1}),   S_{-1} = 0 (light), S_0 = 0 (camera).
 // h is multiplicative on non-negative values, so S_k is Σ_{i ≤ k} h(Π_{j=i..k} ρ_j · a_i):
 // the sum over every technique whose connection (or merge) lies at or before
@@ -51,6 +54,14 @@ enum class MisWeighting { Balance, Power, Uniform };
 struct Techniques {
   bool connections = true;  // every (s, t) with s >= 1 (s = 0, a camera subpath hitting a light, always competes)
   float mergeEta = 0;       // > 0: merging competes, η = (light subpaths per iteration) · π r²
+  // How many times, in expectation, one camera sample makes each connection
+  // (s, t) with s >= 2 and t >= 2: 1 in BDPT (its own light subpath); in the
+  // light-vertex-cache BDPT (Davidovič et al. 2014) k draws from a cache of M
+  // vertices of N light subpaths, k·N/M. Its density enters the heuristic as
+  // count × density (Veach 1997 Eq. 9.13): h(c·p) = h(c)·h(p) multiplies the
+  // term of every such technique in Eqs. 2, 4, 5 and 6 below by h(c). Next-
+  // event estimation (s = 1), light tracing (t = 1) and s = 0 keep count 1.
+  double connectionCount = 1;
 };
 struct TechniqueWeights {
   float connection = 0;     // weight of the connection (s, t) itself

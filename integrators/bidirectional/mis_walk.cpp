@@ -102,9 +102,14 @@ TechniqueWeights techniqueWeightsByWalk(const Scene& scene, MisWeighting h, cons
   float neeOverEmit = pEmit > 0 ? pdfLightNee(scene, y0, y1) / pEmit : 0.f;
   // A connection s' ≥ 1 competes only where connections are allowed; s' = 0
   // (a camera subpath that hits the light) always does.
+  // Its density counts Techniques::connectionCount times when both sides
+  // have two or more vertices (a light-vertex-cache draw).
   auto connection = [&](double r, int sOther) {
     if (sOther >= 1 && !allowed.connections) return 0.0;
-    return heuristicTerm(h, sOther == 1 ? r * neeOverEmit : r);
+    int tOther = s + t - sOther;
+    if (sOther == 1) r *= neeOverEmit;
+    else if (sOther >= 2 && tOther >= 2) r *= allowed.connectionCount;
+    return heuristicTerm(h, r);
   };
   auto merge = [&](double r, const Vertex& v) {
     return allowed.mergeEta > 0 ? heuristicTerm(h, r * v.pdfFwd * allowed.mergeEta) : 0.0;

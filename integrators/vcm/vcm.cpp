@@ -16,10 +16,22 @@ using bidir::VertexType;
 
 VcmSettings VcmSettings::read(Params& p) {
   VcmSettings s;
-  std::string mode = p.getChoice("mode", "vcm", {"vcm", "bpm", "ppm", "bpt"},
-                                 "strategies: all, merging only (bidirectional / progressive photon mapping), or "
-                                 "connections only (Georgiev et al. 2012)");
-  s.mode = mode == "vcm" ? VcmMode::Vcm : mode == "bpm" ? VcmMode::Bpm : mode == "ppm" ? VcmMode::Ppm : VcmMode::Bpt;
+  std::string mode = p.getChoice("mode", "vcm", {"vcm", "bpm", "ppm", "bpt", "lvc"},
+                                 "strategies: all, merging only (bidirectional / progressive photon mapping), "
+                                 "connections only (Georgiev et al. 2012), or connections to light vertices drawn "
+                                 "from all of the pass's (light-vertex-cache BDPT, Davidovic et al. 2014)");
+  s.mode = mode == "vcm"   ? VcmMode::Vcm
+           : mode == "bpm" ? VcmMode::Bpm
+           : mode == "ppm" ? VcmMode::Ppm
+           : mode == "bpt" ? VcmMode::Bpt
+                           : VcmMode::Lvc;
+  if (s.mode == VcmMode::Lvc || p.describing()) {
+    p.setCondition("mode: lvc");
+    s.cacheConnections = p.getInt("connections", 1,
+                                  {"light vertices drawn from the pass's cache for each camera vertex to connect to",
+                                   Range::between(1, 64)});
+    p.setCondition("");
+  }
   s.length = PathLength::read(p);
   std::string mis = p.getChoice("mis", "power", {"power", "balance"}, "MIS heuristic over all strategies");
   s.mis = mis == "power" ? bidir::MisWeighting::Power : bidir::MisWeighting::Balance;
@@ -60,6 +72,12 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   const float r = radius(scene, pass);
   const double mergeNorm = 1 / (double(N) * Pi * double(r) * r);
   bidir::Techniques techniques{settings_.connections(), settings_.merging() ? float(double(N) * Pi * r * r) : 0.f};
+  const bool cache = settings_.mode == VcmMode::Lvc;
+  const int k = settings_.cacheConnections;
+  // lvc: the weights count a connection k·N/M times, with M from the pass
+  // before (mode lvc in vcm.h).
+  if (cache) techniques.connectionCount = double(k) * double(N) / double(cachedBefore_ > 0 ? cachedBefore_ : N);
+  if (cache && settings_.weightCountOverride > 0) techniques.connectionCount = settings_.weightCountOverride;
   const int maxSeg = settings_.length.maxSegments();
   // "Unlimited" depth is capped at 4096 segments: the subpaths' arrays (as in bdpt).
   const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
@@ -105,6 +123,12 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       for (int j = 1; j < n; ++j)
         if (light[size_t(j)].mergeable())
           tilePoints[size_t(tile)].push_back(light[size_t(j)].p), tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
+    // lvc: the cache, every vertex a camera vertex can connect to within
+    // max_depth (s = j + 1 light vertices and t >= 2: j + 2 segments at least).
+    if (cache)
+      for (int j = 1; j < n && j + 2 <= maxSeg; ++j)
+        if (light[size_t(j)].connectible() && light[size_t(j)].type == VertexType::Surface)
+          tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
   });
 
   // 2. The merging index over every light vertex photons can be merged at,
@@ -206,12 +230,26 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
       }
     } else {
       for (int t = 2; t <= nc; ++t) {
-        for (int s = 0; s <= std::max(nl, 1); ++s) {
+        // lvc: only s = 0 and s = 1 from this pixel's own samples; s >= 2 from the cache below.
+        for (int s = 0; s <= (cache ? 1 : std::max(nl, 1)); ++s) {
           int segments = s + t - 1;
           if ((s >= 1 && !settings_.connections()) || segments > maxSeg) continue;
           bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, light, camera, s, t, rays);
           if (!isBlack(c.L) && c.weight > 0) add(c.L * c.weight);
         }
+        // lvc: k light vertices drawn uniformly from the M cached, each
+        // connection divided by its expected count per sample, k·N/M. A draw
+        // whose path would pass max_depth is that technique's zero, not redrawn.
+        if (cache && !refs.empty())
+          for (int draw = 0; draw < k; ++draw) {
+            size_t m = std::min(size_t(sampler.get1D() * float(refs.size())), refs.size() - 1);
+            const LightVertexRef& ref = refs[m];
+            int s = int(ref.index) + 1;
+            if (s + t - 1 > maxSeg) continue;
+            bidir::Subpath prefix(tileVertices_[ref.tile].data() + ref.first, size_t(s));
+            bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, prefix, camera, s, t, rays);
+            if (!isBlack(c.L) && c.weight > 0) add(c.L * (c.weight * float(double(refs.size()) / (double(k) * N))));
+          }
         // A merge uses s >= 1 light vertices, s + t − 1 segments: none fits beyond t = max_depth.
         if (settings_.merging() && t <= maxSeg && camera[size_t(t - 1)].mergeable()) mergeAt(t);
       }
@@ -221,6 +259,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums; t = 1 through the filter
     for (const Splat& s : tileSplats) image.splat(s.raster, s.value, pass, film);
   film.addPass(image);
+  if (cache) cachedBefore_ = refs.size();
 }
 
 }  // namespace lb

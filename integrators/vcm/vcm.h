@@ -26,8 +26,21 @@
 //        lights seen through specular chains count directly
 //   bpt  connections only: bidirectional path tracing, the same estimator as
 //        `bdpt` (one light subpath per pixel per pass)
+//   lvc  the light-vertex-cache BDPT (Davidovič, Křivánek, Hašan & Slusallek
+//        2014; SeeSharp's VertexCacheBidir): as bpt, but each camera vertex
+//        connects to `connections` (k) vertices drawn uniformly from all M
+//        connectible light vertices of the pass (the light's own excluded)
+//        instead of its own light subpath's, so the number of connections no
+//        longer grows with the light subpath's length. A draw's contribution
+//        is divided by its expected count k·N/M (N light subpaths); the MIS
+//        weights count it the same way (bidir::Techniques::connectionCount),
+//        with the M of the previous pass (the first: N), so they do not
+//        depend on this pass's light subpaths and the estimator is unbiased.
+//        The cached light vertices are ordered by tile, so the draws and the
+//        image do not depend on the thread count.
 //
 //   mode             vcm
+//   connections      1       lvc: light vertices each camera vertex connects to
 //   max_depth, rr, rr_depth  path length in segments, roulette (path_length.h)
 //   mis              power   power | balance
 //   radius           0       r_1 in world units; 0: relative_radius × the scene's bounding radius
@@ -50,7 +63,7 @@
 
 namespace lb {
 
-enum class VcmMode { Vcm, Bpm, Ppm, Bpt };
+enum class VcmMode { Vcm, Bpm, Ppm, Bpt, Lvc };
 
 struct VcmSettings {
   VcmMode mode = VcmMode::Vcm;
@@ -59,9 +72,15 @@ struct VcmSettings {
   float radius = 0, relativeRadius = 0.003f;
   float alpha = 0.75f;
   bool gridLookup = true;
+  int cacheConnections = 1;  // lvc: k
+  // lvc, for tests only (no key): the count the weights give a connection
+  // instead of k·N/M; 0: k·N/M. Any count keeps the estimator unbiased (the
+  // weights still sum to 1), so a test can give connections nearly all the
+  // weight and see their contributions alone.
+  double weightCountOverride = 0;
   static VcmSettings read(Params& p);
-  bool connections() const { return mode == VcmMode::Vcm || mode == VcmMode::Bpt; }
-  bool merging() const { return mode != VcmMode::Bpt; }
+  bool connections() const { return mode == VcmMode::Vcm || mode == VcmMode::Bpt || mode == VcmMode::Lvc; }
+  bool merging() const { return mode != VcmMode::Bpt && mode != VcmMode::Lvc; }
 };
 
 class Vcm final : public Integrator {
@@ -71,7 +90,7 @@ class Vcm final : public Integrator {
   // the pass index, which a chunk would restart (the bias of its own passes).
   std::string splitRefusal() const override {
     return settings_.merging() ? "its merging radius shrinks with the pass index; a chunk restarts it, so the mean "
-                                 "of chunks keeps the bias of one chunk's passes (mode bpt splits exactly)"
+                                 "of chunks keeps the bias of one chunk's passes (modes bpt and lvc, unbiased, split exactly)"
                                : "";
   }
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
@@ -86,6 +105,7 @@ class Vcm final : public Integrator {
   };
   std::vector<std::vector<bidir::Vertex>> tileVertices_;
   std::vector<LightSubpathRef> lightSubpaths_;
+  size_t cachedBefore_ = 0;  // lvc: M of the previous pass (0: none yet), for the MIS weights
 };
 
 }  // namespace lb
