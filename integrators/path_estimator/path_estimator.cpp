@@ -203,8 +203,6 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   auto lightPdf = [&](const Light& light, const Vec3& ref, const Vec3& wi, const Vec3& p, const Vec3& n) {
     return settings_.misCompensation ? light.pdfLiCompensated(ref, wi, p, n) : light.pdfLi(ref, wi, p, n);
   };
-  // Emission reached by this segment, MIS-weighted against the previous
-  // vertex's light samples.
   // Variance-aware MIS: technique t's factor for paths of `length` segments.
   auto factor = [&](int length, MisTechnique t) {
     return c.varianceAware ? c.varianceAware->factor(length, t) : 1.f;
@@ -215,6 +213,8 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     if (c.varianceAware && !s.prevDelta && settings_.nee)
       c.varianceAware->record(segments, MisTechnique::Bsdf, luminance(betaLe));
   };
+  // Emission reached by this segment, MIS-weighted against the previous
+  // vertex's light samples.
   auto emissionWeight = [&](const Light* light, float pdfLi) {
     if (s.prevDelta || !settings_.nee) return 1.f;
     float pdfLight = lightPmf(c.scene, s.prevPoint, light) * pdfLi;
@@ -302,7 +302,8 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
                                          bsdfCount * factor(length, MisTechnique::Bsdf), scatterPdf(d->sample))
                              : 1.f;
           Color unweighted = s.beta * d->sample.contribution;
-          shadows[n++] = {d->shadowRay, unweighted * (w / float(N)), weighted ? luminance(unweighted) : 0.f, length};
+          float pilotValue = c.varianceAware && weighted ? luminance(unweighted) : 0.f;
+          shadows[n++] = {d->shadowRay, unweighted * (w / float(N)), pilotValue, length};
         }
     }
   }

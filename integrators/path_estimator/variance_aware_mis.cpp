@@ -10,9 +10,7 @@ constexpr int Techniques = 2;
 }  // namespace
 
 VarianceAwareMis::VarianceAwareMis(int width, int height, int block)
-    : width_(width),
-      height_(height),
-      block_(block),
+    : block_(block),
       across_((width + block - 1) / block),
       down_((height + block - 1) / block) {
   size_t blocks = size_t(across_) * size_t(down_);

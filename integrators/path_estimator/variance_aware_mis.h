@@ -59,7 +59,7 @@ class VarianceAwareMis {
     double sum = 0, squares = 0;
   };
   size_t slot(int x, int y, int segments, MisTechnique t) const;
-  int width_, height_, block_, across_, down_;
+  int block_, across_, down_;
   std::vector<Sums> sums_;      // per block, length, technique (freed by finish())
   std::vector<float> factors_;  // same layout
   std::vector<int> pixels_;     // pixels in each block (edge blocks have fewer)

@@ -148,6 +148,9 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   bidir::CostSplit::charge(bidir::Phase::Index, std::chrono::duration<double>(Clock::now() - indexStart).count() *
                                                    tbb::this_task_arena::max_concurrency());
 
+  // lvc: a draw from the cache counts k·N/M times per camera sample.
+  const float perDraw = float(double(refs.size()) / (double(k) * double(N)));
+
   // 3. Camera subpaths: connections to the pixel's own light subpath, merges
   //    with every light vertex within r.
   PassImage image(W, H, &scene.camera.filter());
@@ -248,7 +251,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
             if (s + t - 1 > maxSeg) continue;
             bidir::Subpath prefix(tileVertices_[ref.tile].data() + ref.first, size_t(s));
             bidir::Connection c = bidir::connect(scene, sampler, settings_.mis, techniques, prefix, camera, s, t, rays);
-            if (!isBlack(c.L) && c.weight > 0) add(c.L * (c.weight * float(double(refs.size()) / (double(k) * N))));
+            if (!isBlack(c.L) && c.weight > 0) add(c.L * (c.weight * perDraw));
           }
         // A merge uses s >= 1 light vertices, s + t − 1 segments: none fits beyond t = max_depth.
         if (settings_.merging() && t <= maxSeg && camera[size_t(t - 1)].mergeable()) mergeAt(t);
