@@ -372,7 +372,7 @@ int render(const RenderArgs& args) {
   if (replay) {
     if (!job.integrator->replaysSamples())
       throw flagError("--pixel", "integrator '" + job.choice.name +
-                                     "' cannot replay single samples: it does not estimate pixels one camera sample at a time");
+                                     "' cannot replay single samples: its camera samples are not each estimated on their own (it merges paths, or learns from earlier passes)");
     const Camera& cam = job.sf.scene->camera;
     int x = -1, y = -1;
     if (!parsePixel(args.replayPixel, x, y) || x >= cam.width() || y >= cam.height())

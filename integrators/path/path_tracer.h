@@ -25,7 +25,12 @@ class PathTracer final : public PixelIntegrator {
     if (wavefront_) return "engine: wavefront traces whole passes; use engine: single_ray";
     if (estimator_.settings().mis == MisHeuristic::VarianceAware)
       return "mis: variance_aware learns its factors from whole passes";
+    if (estimator_.settings().rrs != RrsMethod::Classic) return "rrs: adrrs and ears learn from whole passes";
     return "";
+  }
+  // A learning estimator's sample depends on every pass before it.
+  bool replaysSamples() const override {
+    return estimator_.settings().mis != MisHeuristic::VarianceAware && estimator_.settings().rrs == RrsMethod::Classic;
   }
   const PathEstimator& estimator() const { return estimator_; }
 
@@ -42,6 +47,10 @@ class PathTracer final : public PixelIntegrator {
   // passes this integrator renders (variance_aware_mis.h).
   std::unique_ptr<VarianceAwareMis> varianceAware_;
   int pilotPassesDone_ = 0;
+  // rrs: adrrs | ears: the continuations' cache and the pixel estimates,
+  // both updated after every pass (roulette_splitting.h).
+  std::unique_ptr<ContinuationCache> rrsCache_;
+  std::unique_ptr<PixelEstimates> rrsPixels_;
 };
 
 }  // namespace lb

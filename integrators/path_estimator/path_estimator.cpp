@@ -69,6 +69,30 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                 "NEE samples an environment map with its mean subtracted (zero below it), leaving "
                                 "those directions to BSDF sampling under MIS (Karlik et al. 2019, as pbrt-v4)");
   s.length = PathLength::read(p);
+  // Learned roulette and splitting learn per pixel from the path integrator's
+  // passes, like variance_aware: not offered where direction keys are not read.
+  if (directionKeys) {
+    std::string rrs = p.getChoice(
+        "rrs", "classic", {"classic", "adrrs", "ears"},
+        "Russian roulette and splitting: classic (rr's, on the throughput), adrrs (a weight window around the pixel "
+        "estimate, Vorba & Krivanek 2016) or ears (efficiency-aware, Rath et al. 2022), both from a cache learned "
+        "between passes");
+    s.rrs = rrs == "classic" ? RrsMethod::Classic : rrs == "adrrs" ? RrsMethod::Adrrs : RrsMethod::Ears;
+  }
+  if (s.rrs != RrsMethod::Classic || (p.describing() && directionKeys)) {
+    p.setCondition("rrs: adrrs or ears");
+    s.rrsWarmup = p.getInt("rrs_warmup", 4,
+                           {"first passes with classic roulette, whose continuations only fill the cache",
+                            Range::between(1, 1 << 20)});
+    s.rrsCells = p.getInt("rrs_cells", 8,
+                          {"the cache's cells along the scene's longest side (each with 4 x 4 direction bins)",
+                           Range::between(1, 32)});
+    s.rrsMinSamples = p.getInt("rrs_min_samples", 64,
+                               {"continuations a cache bin needs before it is used (else its cell's, else classic "
+                                "roulette)",
+                                Range::atLeast(1)});
+    p.setCondition("");
+  }
   // Compensated densities are zero where the map is below its mean: only
   // BSDF sampling, weighted against the same densities, reaches there.
   if (s.misCompensation && (!s.nee || s.mis == MisHeuristic::None))
@@ -82,6 +106,15 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
       p.fail("first_bounce_samples", "mis: variance_aware counts one BSDF sample per vertex; use 1");
     if (s.emissionSelection > 0)
       p.fail("emission_selection", "mis: variance_aware learns from the emission counted in full; use 0");
+  }
+  if (s.rrs != RrsMethod::Classic) {
+    if (s.wavefront) p.fail("engine", "rrs: adrrs and ears split paths; use engine: single_ray");
+    if (s.firstBounceSamples > 1)
+      p.fail("first_bounce_samples", "rrs: adrrs and ears choose how often to split; use 1");
+    if (s.mis == MisHeuristic::VarianceAware)
+      p.fail("mis", "rrs: adrrs and ears run with power, balance, none or one_sample");
+    // A learned factor may stay ≥ 1 along a path (a white furnace): only max_depth ends it then.
+    if (s.length.maxDepth < 0) p.fail("max_depth", "rrs: adrrs and ears need a finite max_depth");
   }
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
@@ -135,13 +168,13 @@ float PathEstimator::misWeight(float nThis, float pdfThis, float nOther, float p
 
 Color PathEstimator::incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxDepth,
                                    bool firstEmission, float* firstHitDistance,
-                                   const VarianceAwareView* varianceAware) const {
+                                   const VarianceAwareView* varianceAware, const RrsView* rrs) const {
   if (firstHitDistance) *firstHitDistance = Infinity;
   if (maxDepth < 1) return Color(0.f);  // max_depth 0 renders black
   PathState state;
   state.ray = ray;
   state.prevPoint = ray.o;
-  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension(), nullptr, varianceAware};
+  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension(), nullptr, varianceAware, rrs};
   return trace(state, ctx, rays, firstHitDistance, nullptr);
 }
 
@@ -152,6 +185,8 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
   const int M = settings_.firstBounceSamples;
   Color L(0.f);
   ShadowRequest shadows[MaxShadowRays];
+  Continuation pending[MaxRecordedVertices];  // rrs: this line's continuations, recorded when it ends
+  int pendingCount = 0;
   for (;; ++s.vertex) {
     SurfaceInteraction si;
     ++rays;
@@ -183,8 +218,17 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
       }
       break;
     }
-    if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c), c.guide)) break;
+    if (c.rrs) {
+      if (!split(s, si, *bsdf, c, rays, L, observer, pending, pendingCount)) break;
+    } else if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c), c.guide)) {
+      break;
+    }
     if (observer) observer->scattered(si, s);
+  }
+  // What each continuation of this line brought back, per unit throughput.
+  for (int i = 0; i < pendingCount; ++i) {
+    const Continuation& k = pending[i];
+    c.rrs->record(k.slot, perUnitThroughput(L - k.before, k.beta), double(rays - k.rays));
   }
   return L;
 }
@@ -313,7 +357,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
 }
 
 bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler,
-                         uint32_t slots, const DirectionGuide* guide) const {
+                         uint32_t slots, const DirectionGuide* guide, bool roulette) const {
   const int segments = next.vertex + 1;
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !bsdf.isDelta();
   sampler.setDimension(slots + settings_.scatterSlot());
@@ -363,6 +407,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   if (isBlack(next.beta)) return false;
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
+  if (!roulette) return true;
   sampler.setDimension(slots + settings_.scatterSlot() + 3);
   return settings_.length.survivesRoulette(segments, next.beta, next.etaScale, sampler);
 }

@@ -17,6 +17,8 @@
 //   engine     single_ray | wavefront    one path at a time, or rays in streams (wavefront.h)
 //   mis_compensation                     NEE from lights' MIS-compensated densities (core/lights/light.h)
 //   max_depth, rr, rr_depth              path length and roulette (path_length.h)
+//   rrs        classic | adrrs | ears     roulette and splitting: rr's, or learned (roulette_splitting.h)
+//   rrs_warmup, rrs_cells, rrs_min_samples  adrrs | ears: the passes before learned factors, the cache's grid
 // (these are the `path` integrator's keys, read by PathTracerSettings::read)
 //
 // With nee on and mis none, emitters hit after a non-delta bounce are ignored
@@ -48,6 +50,8 @@
 //     0 emit-vs-reflect choice   1 one-sample strategy choice
 //     2 + 4i .. 5 + 4i  shadow ray i (light, pick, 2-D point)
 //     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
+//     6 + 4N        (rrs: adrrs | ears only) the key of the split's other
+//                   continuations, which draw from samplers of their own
 // At the first vertex, slots 0, 1 and the shadow rays are branch 0's; each
 // branch b draws its own lobe, direction and roulette. So a low-discrepancy
 // sampler gives every vertex the same dimensions on every path. Draws go
@@ -62,6 +66,7 @@
 #include "core/sampler.h"
 #include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
+#include "integrators/path_estimator/roulette_splitting.h"
 #include "integrators/path_estimator/variance_aware_mis.h"
 #include "integrators/path_length.h"
 
@@ -83,6 +88,10 @@ struct PathTracerSettings {
   bool misCompensation = false;  // NEE from lights' MIS-compensated densities (core/lights/light.h)
   int pilotPasses = 1;           // mis: variance_aware: passes that learn its factors
   int factorBlock = 8;           // mis: variance_aware: pixels per side of the blocks its moments pool
+  RrsMethod rrs = RrsMethod::Classic;  // roulette and splitting (roulette_splitting.h)
+  int rrsWarmup = 4;             // rrs: adrrs | ears: passes of classic roulette before the learned factors
+  int rrsCells = 8;              // … the cache's cells along the scene's longest side
+  int rrsMinSamples = 64;        // … continuations a cache bin needs before it is used
   PathLength length;
 
   // Without `directionKeys`, the keys that change how directions are drawn
@@ -91,7 +100,7 @@ struct PathTracerSettings {
   static PathTracerSettings read(Params& p, bool directionKeys = true);
   // Dimensions one vertex of one branch takes (S above), and where its
   // direction sampling (lobe, direction, roulette) begins.
-  uint32_t vertexStride() const { return 6 + 4 * uint32_t(shadowRays); }
+  uint32_t vertexStride() const { return (rrs == RrsMethod::Classic ? 6 : 7) + 4 * uint32_t(shadowRays); }
   uint32_t scatterSlot() const { return 2 + 4 * uint32_t(shadowRays); }
 };
 
@@ -116,6 +125,8 @@ struct PathState {
   Vec3 prevPoint{0.f};
   int vertex = 0;                // the vertex `ray` is about to reach (0: the camera ray's hit)
   int branch = 0;                // which of the first vertex's M directions this path took
+  float splitProduct = 1;        // rrs: the product of the roulette and split factors so far
+  int nesting = 0;               // rrs: splits this continuation descends from
 };
 
 // What a path's vertices share: the scene, the sampler (started for the
@@ -132,6 +143,7 @@ struct PathContext {
   uint32_t entryDimension;
   DirectionGuide* guide = nullptr;
   const VarianceAwareView* varianceAware = nullptr;  // mis: variance_aware: this sample's factors
+  const RrsView* rrs = nullptr;  // rrs: adrrs | ears: the cache and this sample's pixel
 };
 
 // A light sample waiting for its visibility test: `contribution` (weighted,
@@ -180,13 +192,15 @@ class PathEstimator {
   // caller restarts it (start()) before drawing again.
   Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
                          bool firstEmission, float* firstHitDistance = nullptr,
-                         const VarianceAwareView* varianceAware = nullptr) const;
+                         const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr) const;
   // A camera path: all of max_depth, emission of the first hit included.
-  // `varianceAware`: this pixel's factors (mis: variance_aware; the path
-  // integrator owns the table).
+  // `varianceAware`: this pixel's factors (mis: variance_aware); `rrs`: the
+  // roulette and splitting cache and this pixel (rrs: adrrs | ears). The
+  // path integrator owns both.
   Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays,
-           const VarianceAwareView* varianceAware = nullptr) const {
-    return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true, nullptr, varianceAware);
+           const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr) const {
+    return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true, nullptr, varianceAware,
+                            rrs);
   }
 
   // The estimator, one vertex at a time, shared by the single-ray loop and
@@ -205,7 +219,11 @@ class PathEstimator {
   int shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
                   ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
   bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots,
-               const DirectionGuide* guide = nullptr) const;
+               const DirectionGuide* guide = nullptr, bool roulette = true) const;
+  // rrs: adrrs | ears: the factor q for the continuation from the vertex in
+  // the cache's `cacheSlot` (before the caps on nesting and on the path's
+  // product of factors).
+  float splitFactor(const PathState& s, size_t cacheSlot, const BSDF& bsdf, const RrsView& r) const;
   // The first dimension of the vertex `s` is about to reach (layout above).
   uint32_t vertexBase(const PathState& s, const PathContext& c) const {
     return c.entryDimension +
@@ -222,6 +240,20 @@ class PathEstimator {
   Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, float* firstHitDistance,
               PathObserver* observer) const;
   float misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const;
+  // rrs: a continuation of a line (the single-ray loop's path) waiting for
+  // the line to end, when what it brought back is known: L − `before`.
+  struct Continuation {
+    size_t slot;         // the vertex's in the cache
+    Color beta, before;  // the continuation's throughput, L when it began
+    uint64_t rays;       // rays traced when it began
+  };
+  static constexpr int MaxRecordedVertices = 64;  // later vertices of a line go unrecorded
+  static constexpr int MaxNesting = 8;            // splits below this many go unsplit (q ≤ 1)
+  static constexpr float MaxSplitProduct = 64;    // a path's factors multiply to at most this
+  // Roulette and splitting at `si` (path_splitting.cpp): the other
+  // continuations are traced at once, into L; false if this line ends here.
+  bool split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c, uint64_t& rays,
+             Color& L, PathObserver* observer, Continuation* pending, int& pendingCount) const;
   const Light* chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const;
   float lightPmf(const Scene& scene, const Vec3& p, const Light* light) const;
 

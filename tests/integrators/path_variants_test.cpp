@@ -1,5 +1,6 @@
 // The path tracer's classic variants (one-sample MIS, emit vs reflect,
-// splitting, light selection, variance-aware MIS with its learned factors)
+// splitting, light selection, variance-aware MIS with its learned factors,
+// learned roulette and splitting)
 // estimate the same image as the default path tracer: region z-tests (testing.md §3) with bounds from the films' measured
 // variance, on the Cornell box, Veach's MIS scene (four lights) and the
 // glass-sphere caustic. The independent sampler keeps each pixel's samples
@@ -29,6 +30,9 @@ const std::vector<std::string> Variants = {
     "{light_selection: spatial, mis: one_sample}",
     "{mis: variance_aware}",
     "{mis: variance_aware, pilot_passes: 4, factor_block: 2, shadow_rays: 2}",
+    "{rrs: adrrs}",
+    "{rrs: ears}",
+    "{rrs: ears, rrs_warmup: 1, rrs_cells: 2, rrs_min_samples: 1, shadow_rays: 2}",
 };
 // Variants whose directions ignore the glossy lobes, or that find lights only
 // by hitting them: on Veach's plates and the caustic's small light their
