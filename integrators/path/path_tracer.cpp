@@ -1,5 +1,6 @@
 #include "integrators/path/path_tracer.h"
 #include "integrators/path/wavefront.h"
+#include <stdexcept>
 
 namespace lb {
 
@@ -41,6 +42,14 @@ Color PathTracer::pixelLi(int x, int y, const Ray& ray, const Scene& scene, Samp
 void PathTracer::preprocess(const Scene& scene, const Sampler& prototype) {
   estimator_.preprocess(scene, prototype.seed());
   const PathTracerSettings& s = estimator_.settings();
+  // A learned state is a function of the earlier passes' numbers; a pass
+  // is unbiased under it only if its own numbers are independent of theirs,
+  // which a low-discrepancy sequence's are not (as guided's Q-learning).
+  bool learns = s.mis == MisHeuristic::VarianceAware || s.rrs != RrsMethod::Classic;
+  if (learns && !dynamic_cast<const IndependentSampler*>(&prototype))
+    throw std::invalid_argument(
+        "path, mis: variance_aware or rrs: adrrs | ears: each pass uses what the earlier passes learned, so their "
+        "random numbers must be independent: use sampler type independent");
   if (s.mis == MisHeuristic::VarianceAware) {
     varianceAware_ = std::make_unique<VarianceAwareMis>(scene.camera.width(), scene.camera.height(), s.factorBlock);
     pilotPassesDone_ = 0;

@@ -251,6 +251,12 @@ TEST(RouletteSplitting, RefusesWhatCannotSplitOrLearn) {
   };
   for (const auto& [integrator, params] : refused)
     EXPECT_THROW(renderScene(scene, {integrator, params, 1, 1}), ConfigError) << integrator << " " << params;
+  // What it learned from earlier passes' numbers must not be correlated
+  // with a later pass's: low-discrepancy samplers are refused.
+  SceneFile sobol = loadShippedScene("cornell-box", 8, 8, "sampler: {type: sobol}");
+  for (const char* params : {"{rrs: ears}", "{rrs: adrrs}", "{mis: variance_aware}"})
+    EXPECT_THROW(renderScene(sobol, {"path", params, 1, 1}), std::invalid_argument) << params;
+  EXPECT_NO_THROW(renderScene(sobol, {"path", "{}", 1, 1}));
   RenderSpec adaptive{"path", "{rrs: ears}", 4, 1};
   adaptive.adaptive.enabled = true;
   EXPECT_ANY_THROW(renderScene(scene, adaptive));
