@@ -30,6 +30,10 @@
 //  * variance-aware MIS (Grittmann et al. 2019): the balance heuristic over
 //    c_i n_i p_i, c_i learned per pixel block and path length from pilot
 //    passes (variance_aware_mis.h);
+//  * learned roulette and splitting (ADRRS, Vorba & Křivánek 2016; EARS,
+//    Rath et al. 2022): n = ⌊q + u⌋ continuations, each weighted 1/q, with
+//    q from a cache learned between passes (roulette_splitting.h,
+//    path_splitting.cpp);
 //  * one-sample MIS: one strategy per vertex, the light's with probability q;
 //    its estimate is w_L f/(q p_L) or w_f f/((1 − q) p_f) with the balance
 //    heuristic over the selection probabilities, w_i = c_i p_i / Σ c_k p_k
