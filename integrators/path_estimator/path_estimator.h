@@ -130,7 +130,7 @@ struct PathState {
   int vertex = 0;                // the vertex `ray` is about to reach (0: the camera ray's hit)
   int branch = 0;                // which of the first vertex's M directions this path took
   float splitProduct = 1;        // rrs: the product of the roulette and split factors so far
-  int nesting = 0;               // rrs: splits this continuation descends from
+  int nesting = 0;               // rrs: depth of recursion (continuations 1 … n − 1 of a split are one deeper)
 };
 
 // What a path's vertices share: the scene, the sampler (started for the
@@ -226,8 +226,8 @@ class PathEstimator {
                const DirectionGuide* guide = nullptr, bool roulette = true) const;
   // rrs: adrrs | ears: the factor q for the continuation from the vertex in
   // the cache's `cacheSlot` (before the caps on nesting and on the path's
-  // product of factors).
-  float splitFactor(const PathState& s, size_t cacheSlot, const BSDF& bsdf, const RrsView& r) const;
+  // product of factors); none where classic roulette decides instead.
+  std::optional<float> splitFactor(const PathState& s, size_t cacheSlot, const BSDF& bsdf, const RrsView& r) const;
   // The first dimension of the vertex `s` is about to reach (layout above).
   uint32_t vertexBase(const PathState& s, const PathContext& c) const {
     return c.entryDimension +

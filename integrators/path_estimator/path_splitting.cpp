@@ -4,6 +4,7 @@
 // taken n = ⌊q + u⌋ times, each with throughput β/q: E[n/q] = 1 for any q > 0,
 // so the estimator stays unbiased whatever the cache has learned.
 #include <cstring>
+#include <optional>
 #include "integrators/path_estimator/path_estimator.h"
 
 namespace lb {
@@ -16,25 +17,23 @@ uint64_t bitsOf(float v) {
 }
 }  // namespace
 
-float PathEstimator::splitFactor(const PathState& s, size_t slot, const BSDF& bsdf, const RrsView& r) const {
-  const PathLength& length = settings_.length;
-  const int segments = s.vertex + 1;
-  // Classic roulette on the throughput (as path_length.h, on β before the
-  // direction is drawn): the warm-up's rule, and the fallback where the
-  // cache knows nothing or the vertex is specular.
-  float classic = length.russianRoulette && segments >= length.rrDepth
-                      ? std::min(1.f, maxComponent(s.beta) * s.etaScale)
-                      : 1.f;
+std::optional<float> PathEstimator::splitFactor(const PathState& s, size_t slot, const BSDF& bsdf,
+                                                const RrsView& r) const {
   // EARS decides from the first hit on, ADRRS from the second vertex (the
-  // depths iRath96/ears recommends for each).
+  // depths iRath96/ears recommends for each); before, neither roulette nor
+  // splitting, as there.
   const int firstVertex = r.method == RrsMethod::Ears ? 0 : 1;
   if (r.learned && s.vertex < firstVertex) return 1.f;
-  if (!r.learned || bsdf.isDelta()) return classic;
+  // Classic roulette (none here): the warm-up's rule, and where the cache
+  // knows nothing or the vertex is specular.
+  if (!r.learned || bsdf.isDelta()) return std::nullopt;
   const ContinuationStats* stats = r.cache->lookup(slot);
-  if (!stats) return classic;
+  if (!stats) return std::nullopt;
   Color w = s.beta * r.relativeScale;  // the throughput relative to the pixel
-  float q = r.method == RrsMethod::Adrrs ? adrrsFactor(w, stats->mean) : earsFactor(w, *stats, r.imageFactor);
-  return clampSplitFactor(q);
+  if (r.method == RrsMethod::Adrrs) return clampSplitFactor(adrrsFactor(w, stats->mean));
+  // EARS without a cost or an image error has no factor to give.
+  if (!(stats->cost > 0) || !(r.imageFactor > 0)) return std::nullopt;
+  return clampSplitFactor(earsFactor(w, *stats, r.imageFactor));
 }
 
 bool PathEstimator::split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
@@ -43,7 +42,14 @@ bool PathEstimator::split(PathState& s, const SurfaceInteraction& si, const BSDF
   const RrsView& r = *c.rrs;
   const uint32_t slots = vertexBase(s, c);
   const size_t slot = r.cache->slot(si.p, s.ray.d);
-  float q = splitFactor(s, slot, bsdf, r);
+  std::optional<float> factor = splitFactor(s, slot, bsdf, r);
+  if (!factor) {
+    // Classic roulette, exactly as rrs: classic (path_length.h, on β after
+    // the direction), the continuation still recorded.
+    if (pendingCount < MaxRecordedVertices) pending[pendingCount++] = {slot, s.beta, L, rays};
+    return scatter(s, si, bsdf, c.sampler, slots, c.guide, true);
+  }
+  float q = *factor;
   // Caps that keep a wrong cache from multiplying paths without end; any
   // q > 0 is unbiased, so capping it is too.
   if (q > 1) q = s.nesting >= MaxNesting ? 1.f : std::min(q, std::max(1.f, MaxSplitProduct / s.splitProduct));
@@ -59,10 +65,11 @@ bool PathEstimator::split(PathState& s, const SurfaceInteraction& si, const BSDF
   float key = c.sampler.get1D();
   const int n = int(q + u);  // ⌊q + u⌋: E[n] = q
   // Continuations 1 … n − 1, each drawing from a sampler of its own (keyed
-  // by this vertex's two draws), traced now.
+  // by this vertex's two draws and its point, so two vertices share a
+  // stream only if all five agree), traced now.
   for (int b = 1; b < n; ++b) {
     IndependentSampler own(c.sampler.seed());
-    own.start(hashValues(bitsOf(u), bitsOf(key), uint64_t(s.vertex)), uint64_t(b));
+    own.start(hashValues(bitsOf(u), bitsOf(key), bitsOf(si.p.x), bitsOf(si.p.y), bitsOf(si.p.z)), uint64_t(b));
     PathContext branch{c.scene, own, c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs};
     PathState next = first;
     ++next.nesting;

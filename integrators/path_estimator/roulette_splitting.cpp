@@ -29,7 +29,6 @@ float average(const Color& c) { return (c.r + c.g + c.b) / 3; }
 }  // namespace
 
 float adrrsFactor(const Color& w, const Color& mean) {
-  if (!(maxComponent(mean) > 0)) return 1;
   float x = average(w * mean);
   if (x < WindowLow) return x / WindowLow;
   if (x > WindowHigh) return x / WindowHigh;
@@ -110,6 +109,28 @@ void ContinuationCache::record(Sums* sums, size_t slot, const Color& L, double c
   }
 }
 
+namespace {
+ContinuationStats statsOf(const ContinuationCache::Sums& s) {
+  ContinuationStats out;
+  double n = double(s.count);
+  for (int c = 0; c < 3; ++c) {
+    double mean = fromFixed(s.first[c]) / n, moment = fromFixed(s.second[c]) / n;
+    out.mean[c] = float(mean);
+    out.secondMoment[c] = float(moment);
+    out.variance[c] = float(std::max(0.0, moment - mean * mean));
+  }
+  out.cost = float(fromFixed(s.cost) / n);
+  return out;
+}
+}  // namespace
+
+ContinuationStats ContinuationCache::overall(int64_t* count) const {
+  Sums all;
+  for (size_t i = 0; i < slotCount(); ++i) all.add(totals_[i]);
+  *count = all.count;
+  return all.count > 0 ? statsOf(all) : ContinuationStats{};
+}
+
 void ContinuationCache::update() {
   const size_t cellCount = totals_.size() / (DirectionBins + 1), bins = cellCount * DirectionBins;
   for (auto& local : threads_->sums) {
@@ -118,18 +139,6 @@ void ContinuationCache::update() {
       local[i] = Sums{};
     }
   }
-  auto statsOf = [](const Sums& s) {
-    ContinuationStats out;
-    double n = double(s.count);
-    for (int c = 0; c < 3; ++c) {
-      double mean = fromFixed(s.first[c]) / n, moment = fromFixed(s.second[c]) / n;
-      out.mean[c] = float(mean);
-      out.secondMoment[c] = float(moment);
-      out.variance[c] = float(std::max(0.0, moment - mean * mean));
-    }
-    out.cost = float(fromFixed(s.cost) / n);
-    return out;
-  };
   for (size_t cellIndex = 0; cellIndex < cellCount; ++cellIndex) {
     Sums whole;
     for (size_t b = 0; b < DirectionBins; ++b) {

@@ -21,12 +21,17 @@
 //  Both are clamped to [0.05, 20] (a zero estimate must not end paths for
 //  good), and q becomes n = ⌊q + u⌋ continuations, each weighted 1/q:
 //  E[n]/q = 1, so the estimator is unbiased for any learned state.
+//  Where the cache knows too little (and at specular vertices, and in the
+//  warm-up passes) classic roulette decides, as `rrs: classic` would.
+//  (The authors' ADRRS leaves a bin whose mean is 0 alone, q = 1; ours
+//  applies the window, x = 0, so the clamp's 0.05.)
 //
 // Facts from the authors' code (iRath96/ears, recursive_path.cpp, octtree.h);
 // what we do differently, and why:
 //  * There, a split repeats the vertex's light sample with each continuation;
 //    here the split covers the BSDF-sampled continuation only (the vertex's
-//    light samples are drawn once, before it), as our classic roulette does.
+//    light samples are drawn once, before it), the part our classic
+//    roulette decides on.
 //    L̄, M and C are those of the continuation.
 //  * There, an octree refines where samples fall, with 4 × 4 direction bins
 //    per leaf; here a uniform grid (`rrs_cells` along the scene's longest
@@ -107,6 +112,9 @@ class ContinuationCache {
   void update();
   // The statistics of a slot, or null where too few continuations were recorded.
   const ContinuationStats* lookup(size_t slot) const;
+  // Every continuation recorded up to the last update(), all slots together
+  // (for tests): their statistics, and their number in `count`.
+  ContinuationStats overall(int64_t* count) const;
 
  private:
   size_t cell(const Vec3& p) const;

@@ -38,35 +38,33 @@ TEST(RouletteSplitting, AdrrsKeepsTheContributionInsideItsWindow) {
   }
   // Per channel: w = (30, 0, 0) sees only the red mean.
   EXPECT_NEAR(adrrsFactor(Color(30, 0, 0), mean), (30 * 0.2f / 3) / high, 1e-5f);
-  // Nothing known (a zero mean): no decision.
-  EXPECT_EQ(adrrsFactor(Color(5.f), Color(0.f)), 1.f);
+  // Continuations that bring nothing back: x = 0, below the window (the clamp makes it 0.05).
+  EXPECT_EQ(adrrsFactor(Color(5.f), Color(0.f)), 0.f);
   EXPECT_EQ(clampSplitFactor(1e6f), 20.f);
   EXPECT_EQ(clampSplitFactor(1e-6f), 0.05f);
   EXPECT_EQ(clampSplitFactor(0.f), 0.05f);
 }
 
 TEST(RouletteSplitting, EarsTakesSecondMomentForRouletteAndVarianceForSplitting) {
-  ContinuationStats s;
-  s.secondMoment = Color(4, 1, 1);
-  s.variance = Color(1, 0.25f, 0.25f);
-  s.cost = 2;
-  auto R = [&](float w, float image) { return std::sqrt(meanOf(w * w * s.secondMoment / s.cost)) * image; };
-  auto S = [&](float w, float image) { return std::sqrt(meanOf(w * w * s.variance / s.cost)) * image; };
-  // R ≤ 1: roulette by R.
-  EXPECT_NEAR(earsFactor(Color(0.3f), s, 1.f), R(0.3f, 1), 1e-6f);
-  ASSERT_LT(R(0.3f, 1), 1.f);
-  // R > 1 but S < 1: neither.
-  ASSERT_GT(R(1.5f, 1), 1.f);
-  ASSERT_LT(S(1.5f, 1), 1.f);
-  EXPECT_EQ(earsFactor(Color(1.5f), s, 1.f), 1.f);
-  // Both above 1: split by S.
-  ASSERT_GT(S(3.f, 2), 1.f);
-  EXPECT_NEAR(earsFactor(Color(3.f), s, 2.f), S(3, 2), 1e-5f * S(3, 2));
-  // No cost or no image error known: no decision.
-  ContinuationStats free = s;
-  free.cost = 0;
-  EXPECT_EQ(earsFactor(Color(3.f), free, 2.f), 1.f);
-  EXPECT_EQ(earsFactor(Color(3.f), s, 0.f), 1.f);
+  // Numbers worked by hand: R = sqrt(avg(w² M / C)) · f, S likewise with the variance.
+  auto stats = [](float moment, float variance, float cost) {
+    ContinuationStats s;
+    s.secondMoment = Color(moment);
+    s.variance = Color(variance);
+    s.cost = cost;
+    return s;
+  };
+  // R = sqrt(2/2) · 0.5 = 0.5 ≤ 1: roulette by R.
+  EXPECT_NEAR(earsFactor(Color(1.f), stats(2, 1, 2), 0.5f), 0.5f, 1e-6f);
+  // R = sqrt(18/2) = 3, S = sqrt(8/2) = 2: split by S.
+  EXPECT_NEAR(earsFactor(Color(1.f), stats(18, 8, 2), 1.f), 2.f, 1e-6f);
+  // R = sqrt(8/2) = 2 but S = sqrt(0.5/2) = 0.5: neither.
+  EXPECT_EQ(earsFactor(Color(1.f), stats(8, 0.5f, 2), 1.f), 1.f);
+  // w = (3, 0, 0) and M = (6, 6, 6), C = 2: R = sqrt((9 · 6 / 2) / 3) = 3; S = sqrt((9 · 1.5 / 2) / 3) = 1.5.
+  EXPECT_NEAR(earsFactor(Color(3, 0, 0), stats(6, 1.5f, 2), 1.f), 1.5f, 1e-6f);
+  // No cost or no image error known: no decision (the estimator then uses classic roulette).
+  EXPECT_EQ(earsFactor(Color(3.f), stats(6, 1.5f, 0), 2.f), 1.f);
+  EXPECT_EQ(earsFactor(Color(3.f), stats(6, 1.5f, 2), 0.f), 1.f);
 }
 
 // A unit box split into cells of 1/2 (2 per side, 8 cells × 16 bins).
@@ -167,35 +165,64 @@ TEST(RouletteSplitting, PixelEstimatesAreBoxMeansAndTheImageFactorItsDefinition)
     }
 }
 
+// 10 per million of a pass's errors are left out of E: at 200 000 pixels,
+// the two largest. One pixel far off and one a little off are both left
+// out; the rest have the same error.
+TEST(RouletteSplitting, ImageErrorLeavesOutItsLargestTenPerMillion) {
+  const int W = 500, H = 400;
+  PixelEstimates pixels(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) pixels.record(x, y, Color(0.5f), 1.0);
+  pixels.update();  // P = 0.5 everywhere
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      float v = x == 7 && y == 3 ? 1e6f : x == 9 && y == 300 ? 2.f : 1.5f;
+      pixels.record(x, y, Color(v), 2.0);
+    }
+  pixels.update();
+  // Each kept sample: ((1.5 − 0.5) / 0.51)², cost 2.
+  double e = (1.0 / 0.51) * (1.0 / 0.51);
+  EXPECT_NEAR(pixels.imageFactor(), std::sqrt(2.0 / e), 1e-5);
+}
+
 // The path estimator under a cache the test fills: slots by parity ask for
 // the largest split or the smallest survival, both clamped (and the split
 // capped by the path's product of factors). Nothing updates it during the
 // render.
+// What it records goes to `learner` (same grid), if given.
 class FixedCachePath final : public PixelIntegrator {
  public:
-  FixedCachePath(PathTracerSettings s, ContinuationCache& cache) : estimator_(s), cache_(cache) {}
+  FixedCachePath(PathTracerSettings s, ContinuationCache& cache, ContinuationCache* learner = nullptr)
+      : estimator_(s), cache_(cache), learner_(learner ? *learner : cache) {}
   std::string splitRefusal() const override { return ""; }
 
  protected:
   Color Li(const Ray&, const Scene&, Sampler&, uint64_t&) const override { return Color(0.f); }
   Color pixelLi(int, int, const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override {
-    RrsView view{&cache_, cache_.threadSums(), estimator_.settings().rrs, true, Color(1.f), 1.f};
+    RrsView view{&cache_, learner_.threadSums(), estimator_.settings().rrs, true, Color(1.f), 1.f};
     return estimator_.Li(ray, scene, sampler, rays, nullptr, &view);
   }
 
  private:
   PathEstimator estimator_;
   ContinuationCache& cache_;
+  ContinuationCache& learner_;
 };
 
-std::unique_ptr<Film> renderWithWrongCache(const SceneFile& sf, uint64_t spp, const char* params) {
-  ContinuationCache cache(sf.scene->bounds(), 4, 1);
+// Even slots: mean 10⁴ with variance 10⁸ (both rules split 20-fold), or
+// all slots so if `allSplit`; odd ones: 10⁻⁶ without variance (both keep 1
+// path in 20).
+ContinuationCache wrongCache(const Scene& scene, bool allSplit = false) {
+  ContinuationCache cache(scene.bounds(), 4, 1);
   ContinuationCache::Sums* sums = cache.threadSums();
-  // Even slots: mean 10⁴ with variance 10⁸ (both rules split 20-fold);
-  // odd ones: 10⁻⁶ without variance (both keep 1 path in 20).
   for (size_t slot = 0; slot < cache.slotCount(); ++slot)
-    for (float v : {2e4f, 0.f}) cache.record(sums, slot, Color(slot % 2 == 0 ? v : 1e-6f), 3.0);
+    for (float v : {2e4f, 0.f}) cache.record(sums, slot, Color(slot % 2 == 0 || allSplit ? v : 1e-6f), 3.0);
   cache.update();
+  return cache;
+}
+
+std::unique_ptr<Film> renderWithWrongCache(const SceneFile& sf, uint64_t spp, const char* params) {
+  ContinuationCache cache = wrongCache(*sf.scene);
   Params p(YAML::Load(params), "<test>", "integrator");
   FixedCachePath integrator(PathTracerSettings::read(p), cache);
   auto film = std::make_unique<Film>(sf.scene->camera.width(), sf.scene->camera.height());
@@ -224,6 +251,38 @@ TEST(RouletteSplitting, WrongCacheLeavesCornellBoxUnbiased) {
   EXPECT_EQ(compareRegions(regionMeans(*film, 3, 3), reference, 1e-3), "");
 }
 
+// What a continuation records, where every number is known: in the furnace
+// (emission 1 everywhere, albedo a = 0.5, cosine-sampled so f cos/p = a
+// exactly), without NEE or classic roulette, paths of at most 3 segments,
+// and ADRRS told to split 20-fold everywhere: its first vertex (v0) is not
+// split; v1 is, 20 times, each continuation one segment to an emitter. So
+// per camera sample v0 records a + 20 · (a/20) · a = 0.75 at a cost of 21
+// rays, and v1 records 20 times a = 0.5 at 1 ray each. A continuation
+// recorded before its line ends, or divided by β rather than β/q, is off.
+TEST(RouletteSplitting, ContinuationsRecordWhatTheyBringBackAndCost) {
+  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
+  ContinuationCache fixed = wrongCache(*sf.scene, true);
+  ContinuationCache learner(sf.scene->bounds(), 4, 1);
+  Params p(YAML::Load("{rrs: adrrs, nee: false, rr: false, max_depth: 3}"), "<test>", "integrator");
+  FixedCachePath integrator(PathTracerSettings::read(p), fixed, &learner);
+  Film film(sf.scene->camera.width(), sf.scene->camera.height());
+  RenderOptions options;
+  options.seed = 3;
+  options.budget.spp = 2;
+  renderLoop(*sf.scene, integrator, film, sf.sampler, options);
+  learner.update();
+  int64_t count = 0;
+  ContinuationStats all = learner.overall(&count);
+  const double samples = double(film.width() * film.height()) * 2;
+  EXPECT_EQ(double(count), 21 * samples);
+  // Float rounding of a few products per value: 1e-5 relative is generous.
+  EXPECT_NEAR(all.mean.g, (0.75 + 20 * 0.5) / 21, 1e-5);
+  EXPECT_NEAR(all.secondMoment.g, (0.75 * 0.75 + 20 * 0.25) / 21, 1e-5);
+  EXPECT_NEAR(all.cost, (21.0 + 20.0) / 21, 1e-5);
+  // The image, meanwhile, is the furnace's 1 + a + a² exactly.
+  EXPECT_NEAR(film.image().pixels[17].g, 1.75f, 1e-5f);
+}
+
 // The cache and the pixel estimates learn between passes, from exact sums
 // and per-pixel records: the same bits with one thread or two.
 TEST(RouletteSplitting, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
@@ -233,8 +292,11 @@ TEST(RouletteSplitting, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
     Image two = renderScene(s, {"path", params, 8, 42, 2})->image();
     ASSERT_EQ(one.pixels.size(), two.pixels.size());
     EXPECT_EQ(std::memcmp(one.pixels.data(), two.pixels.data(), one.pixels.size() * sizeof(Color)), 0) << params;
-    // … and the learned factors changed the image.
-    Image classic = renderScene(s, {"path", "{}", 8, 42, 1})->image();
+    // … and the learned factors changed the image: it differs from the
+    // same settings kept in their warm-up (classic roulette) throughout.
+    std::string warmUp = std::string(params).substr(0, std::strlen(params) - 1) + ", rrs_warmup: 100}";
+    warmUp.replace(warmUp.find("rrs_warmup: 2, "), std::strlen("rrs_warmup: 2, "), "");
+    Image classic = renderScene(s, {"path", warmUp, 8, 42, 1})->image();
     EXPECT_NE(std::memcmp(one.pixels.data(), classic.pixels.data(), one.pixels.size() * sizeof(Color)), 0) << params;
   }
 }
