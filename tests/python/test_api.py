@@ -91,14 +91,16 @@ def test_integrator_keys_are_what_the_reader_accepts(small_scene):
     assert keys["alpha"]["allowed"] == "(0, 1)" and keys["alpha"]["default"] == "0.7"
     # Every listed key is accepted with its listed default (an unlisted key
     # is not: the test above).
-    # Keys read only under a condition ("base: photon") are given with it, one
-    # render per condition (mlt's pssmlt and mmlt keys exclude each other).
+    # Keys read only under a condition ("base: photon", or "rrs: adrrs or ears",
+    # of which the first) are given with it, one render per condition (mlt's
+    # pssmlt and mmlt keys exclude each other).
     for name in lightbench.integrators():
         keys = lightbench.integrator_keys(name)
         for condition in sorted({k["condition"] for k in keys}):
             params = {k["key"]: typed(k) for k in keys if k["condition"] in ("", condition)}
             if condition:
                 key, value = (part.strip() for part in condition.split(":"))
+                value = value.split(" or ")[0]
                 params[key] = value
             params.update(max_depth=3, global_photons=1000, caustic_photons=1000, photons_per_pass=1000,
                           bootstrap_samples=1000)
