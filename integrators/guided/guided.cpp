@@ -3,11 +3,13 @@
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
+#include "integrators/guided/vertex_recorder.h"
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
 
 using guiding::GuideVertex;
+using guiding::VertexRecorder;
 
 GuidedSettings GuidedSettings::read(Params& p) {
   GuidedSettings s;
@@ -64,11 +66,20 @@ void GuidedPathTracer::preprocess(const Scene& scene, const Sampler& prototype) 
   trainingPasses_ = 0;
   // Q-learning's later passes sample what the earlier ones taught: unbiased
   // only if their numbers are independent of the earlier ones'.
-  if (settings_.method == GuidedSettings::Method::QLearning && !dynamic_cast<const IndependentSampler*>(&prototype))
+  // So do all passes with learned roulette and splitting.
+  const bool learnsPerPass =
+      settings_.method == GuidedSettings::Method::QLearning || settings_.path.rrs != RrsMethod::Classic;
+  if (learnsPerPass && !dynamic_cast<const IndependentSampler*>(&prototype))
     throw std::invalid_argument(
-        "guided, method qlearning: each pass samples what the earlier passes learned, so "
+        "guided, method qlearning or rrs: adrrs | ears: each pass samples what the earlier passes learned, so "
         "their random numbers must be independent: use sampler type independent");
   estimator_.preprocess(scene, prototype.seed());
+  // rrs: adrrs | ears learn from every pass, the SD-tree's training passes included.
+  rrs_.reset();
+  const PathTracerSettings& ps = settings_.path;
+  if (ps.rrs != RrsMethod::Classic)
+    rrs_ = std::make_unique<RrsLearning>(ps.rrs, ps.rrsWarmup, scene.bounds(), ps.rrsCells, ps.rrsMinSamples,
+                                         scene.camera.width(), scene.camera.height());
   if (settings_.method == GuidedSettings::Method::QLearning) {
     method_ = std::make_unique<guiding::QLearning>(scene.bounds(), settings_.qlearning);
     return;
@@ -100,10 +111,16 @@ void GuidedPathTracer::pass(const Scene& scene, Film& film, const Sampler& proto
                  sampler.start(uint64_t(y) * uint64_t(scene.camera.width()) + uint64_t(x), index);
                  Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
                  auto* list = learn ? &records[size_t(tile)] : nullptr;
-                 Color L = trace(scene.camera.generateRay(at.raster), scene, sampler, localGuide(), list, rays);
+                 const uint64_t raysBefore = rays;
+                 std::optional<RrsView> view;
+                 if (rrs_) view = rrs_->view(x, y);
+                 Color L = trace(scene.camera.generateRay(at.raster), scene, sampler, localGuide(), list, rays,
+                                 view ? &*view : nullptr);
+                 if (rrs_) rrs_->recordPixel(x, y, L, double(rays - raysBefore));
                  film.addSample(x, y, index, L * at.weight);
                });
   if (learn) method_->learn(records);
+  if (rrs_) rrs_->endPass();
 }
 
 DirectionGuide& GuidedPathTracer::localGuide() const {
@@ -116,59 +133,16 @@ Color GuidedPathTracer::Li(const Ray& ray, const Scene& scene, Sampler& sampler,
   return trace(ray, scene, sampler, localGuide(), nullptr, rays);
 }
 
-namespace {
-
-// Records each scattering vertex of a path for learning (PathObserver,
-// path_estimator.h): the radiance the rest of the path brings back to it
-// (each later contribution divided by the vertex's throughput), and what its
-// direction reached (the emission there and the learned value of scattering
-// on, for Q-learning).
-class VertexRecorder final : public PathObserver {
- public:
-  VertexRecorder(std::vector<guiding::GuideVertex>& records, const guiding::GuidingMethod& method)
-      : records_(records), method_(method), first_(records.size()) {}
-
-  void shaded(const SurfaceInteraction& si, const BSDF* bsdf, const Color& emitted, const Color& added) override {
-    // `emitted`, divided by the previous vertex's throughput, is the emission
-    // its direction found, less what NEE already found (so Q-learning does
-    // not learn to aim at lights NEE reaches).
-    if (lastRecorded_) {
-      GuideVertex& prev = records_.back();
-      prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
-      if (bsdf) prev.scattered = method_.scatteredValue(si, *bsdf);
-    }
-    if (!isBlack(added))
-      for (size_t r = first_; r < records_.size(); ++r) {
-        const Color& b = records_[r].beta;
-        for (int ch = 0; ch < 3; ++ch)
-          if (b[ch] > 0) records_[r].incident[ch] += added[ch] / b[ch];
-      }
-  }
-
-  void scattered(const SurfaceInteraction& si, const PathState& s) override {
-    lastRecorded_ = !s.prevDelta;
-    if (lastRecorded_) records_.push_back({si.p, guiding::orientationClass(si), s.ray.d, s.prevPdf, s.beta});
-  }
-
- private:
-  std::vector<guiding::GuideVertex>& records_;
-  const guiding::GuidingMethod& method_;
-  const size_t first_;
-  bool lastRecorded_ = false;  // whether the previous vertex has a record to close
-};
-
-}  // namespace
-
 // The path estimator's single-ray loop with the guide in its context, and,
 // while learning, a recorder of its vertices.
 Color GuidedPathTracer::trace(const Ray& ray, const Scene& scene, Sampler& sampler, DirectionGuide& guide,
-                              std::vector<GuideVertex>* records, uint64_t& rays) const {
+                              std::vector<GuideVertex>* records, uint64_t& rays, const RrsView* rrs) const {
   int maxDepth = settings_.path.length.maxSegments();
   if (maxDepth < 1) return Color(0.f);
   PathState s;
   s.ray = ray;
   s.prevPoint = ray.o;
-  PathContext c{scene, sampler, maxDepth, true, sampler.dimension(), &guide};
+  PathContext c{scene, sampler, maxDepth, true, sampler.dimension(), &guide, nullptr, rrs};
   if (!records) return estimator_.trace(s, c, rays, nullptr);
   VertexRecorder recorder(*records, *method_);
   return estimator_.trace(s, c, rays, &recorder);

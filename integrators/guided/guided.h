@@ -18,8 +18,15 @@
 //                       over directions (φ across, cos θ down, sphere_map.h)
 //                       at the surface seen through pixel (x, y)
 // and the path tracer's keys (nee, mis, shadow_rays, light_selection,
-// max_depth, rr, …), except those that change how directions are drawn
+// max_depth, rr, rrs, …), except those that change how directions are drawn
 // (sampling, first_bounce_samples and engine are not accepted).
+//
+// rrs: adrrs | ears (learned roulette and splitting, roulette_splitting.h)
+// learn from every pass, the SD-tree's training passes included, and so
+// need the independent sampler, as Q-learning does. A split's continuations
+// all draw their directions from the guide before any is traced
+// (path_splitting.cpp), and the recorder credits each vertex with its own
+// subtree only (vertex_recorder.h).
 //
 // Unbiasedness: a pass samples a distribution fixed before it starts, and
 // every direction's weight uses the mixture's exact density, positive
@@ -69,9 +76,12 @@ class GuidedPathTracer final : public PixelIntegrator {
   std::vector<std::string> writeExtraOutputs(const std::string& stem) const override;
   // Q-learning learns from whole passes; the SD-tree is fixed after training.
   std::string adaptiveRefusal() const override {
-    return settings_.method == GuidedSettings::Method::QLearning ? "guided's method: qlearning learns from whole passes"
-                                                                 : "";
+    if (settings_.method == GuidedSettings::Method::QLearning) return "guided's method: qlearning learns from whole passes";
+    if (settings_.path.rrs != RrsMethod::Classic) return "rrs: adrrs and ears learn from whole passes";
+    return "";
   }
+  // With rrs: adrrs | ears a sample depends on every pass before it.
+  bool replaysSamples() const override { return settings_.path.rrs == RrsMethod::Classic; }
   const guiding::GuidingMethod& method() const { return *method_; }
 
  protected:
@@ -80,7 +90,7 @@ class GuidedPathTracer final : public PixelIntegrator {
  private:
   // One camera path; with `records`, its scattering vertices are appended.
   Color trace(const Ray& ray, const Scene& scene, Sampler& sampler, DirectionGuide& guide,
-              std::vector<guiding::GuideVertex>* records, uint64_t& rays) const;
+              std::vector<guiding::GuideVertex>* records, uint64_t& rays, const RrsView* rrs = nullptr) const;
   // Every pixel once (sample index `pass`); with `learn`, the method learns from the paths afterwards.
   void pass(const Scene& scene, Film& film, const Sampler& sampler, uint64_t pass, PassStats& stats, bool learn);
 
@@ -90,6 +100,8 @@ class GuidedPathTracer final : public PixelIntegrator {
   // Each thread's view of method_ (made again after each preprocess).
   DirectionGuide& localGuide() const;
   mutable tbb::enumerable_thread_specific<std::unique_ptr<DirectionGuide>> guides_;
+  // rrs: adrrs | ears: the cache and the pixel estimates (roulette_splitting.h).
+  std::unique_ptr<RrsLearning> rrs_;
   const Scene* scene_ = nullptr;
   uint64_t trainingPasses_ = 0;
   double trainingSeconds_ = 0;

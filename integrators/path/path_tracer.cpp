@@ -18,20 +18,15 @@ void PathTracer::renderPass(const Scene& scene, Film& film, const Sampler& proto
   const PathTracerSettings& s = estimator_.settings();
   if (varianceAware_ && !varianceAware_->finished() && ++pilotPassesDone_ == s.pilotPasses)
     varianceAware_->finish(s.pilotPasses, s.shadowRays);
-  if (rrsCache_) {
-    rrsCache_->update();
-    rrsPixels_->update();
-  }
+  if (rrs_) rrs_->endPass();
 }
 
 Color PathTracer::pixelLi(int x, int y, const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const {
-  if (rrsCache_) {
-    const PathTracerSettings& s = estimator_.settings();
-    RrsView view{rrsCache_.get(), rrsCache_->threadSums(), s.rrs, rrsPixels_->passes() >= s.rrsWarmup,
-                 Color(1.f) / (rrsPixels_->estimate(x, y) + Color(RelativePixelOffset)), rrsPixels_->imageFactor()};
+  if (rrs_) {
+    RrsView view = rrs_->view(x, y);
     const uint64_t raysBefore = rays;
     Color L = estimator_.Li(ray, scene, sampler, rays, nullptr, &view);
-    rrsPixels_->record(x, y, L, double(rays - raysBefore));
+    rrs_->recordPixel(x, y, L, double(rays - raysBefore));
     return L;
   }
   if (!varianceAware_) return estimator_.Li(ray, scene, sampler, rays);
@@ -54,10 +49,9 @@ void PathTracer::preprocess(const Scene& scene, const Sampler& prototype) {
     varianceAware_ = std::make_unique<VarianceAwareMis>(scene.camera.width(), scene.camera.height(), s.factorBlock);
     pilotPassesDone_ = 0;
   }
-  if (s.rrs != RrsMethod::Classic) {
-    rrsCache_ = std::make_unique<ContinuationCache>(scene.bounds(), s.rrsCells, s.rrsMinSamples);
-    rrsPixels_ = std::make_unique<PixelEstimates>(scene.camera.width(), scene.camera.height());
-  }
+  if (s.rrs != RrsMethod::Classic)
+    rrs_ = std::make_unique<RrsLearning>(s.rrs, s.rrsWarmup, scene.bounds(), s.rrsCells, s.rrsMinSamples,
+                                         scene.camera.width(), scene.camera.height());
 }
 
 }  // namespace lb

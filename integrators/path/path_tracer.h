@@ -49,8 +49,7 @@ class PathTracer final : public PixelIntegrator {
   int pilotPassesDone_ = 0;
   // rrs: adrrs | ears: the continuations' cache and the pixel estimates,
   // both updated after every pass (roulette_splitting.h).
-  std::unique_ptr<ContinuationCache> rrsCache_;
-  std::unique_ptr<PixelEstimates> rrsPixels_;
+  std::unique_ptr<RrsLearning> rrs_;
 };
 
 }  // namespace lb

@@ -69,17 +69,16 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                 "NEE samples an environment map with its mean subtracted (zero below it), leaving "
                                 "those directions to BSDF sampling under MIS (Karlik et al. 2019, as pbrt-v4)");
   s.length = PathLength::read(p);
-  // Learned roulette and splitting learn per pixel from the path integrator's
-  // passes, like variance_aware: not offered where direction keys are not read.
-  if (directionKeys) {
-    std::string rrs = p.getChoice(
-        "rrs", "classic", {"classic", "adrrs", "ears"},
-        "Russian roulette and splitting: classic (rr's, on the throughput), adrrs (a weight window around the pixel "
-        "estimate, Vorba & Krivanek 2016) or ears (efficiency-aware, Rath et al. 2022), both from a cache learned "
-        "between passes");
-    s.rrs = rrs == "classic" ? RrsMethod::Classic : rrs == "adrrs" ? RrsMethod::Adrrs : RrsMethod::Ears;
-  }
-  if (s.rrs != RrsMethod::Classic || (p.describing() && directionKeys)) {
+  // Learned roulette and splitting learn per pixel from the passes of the
+  // integrator (path or guided, which both render a camera sample per pixel
+  // per pass and own the cache: roulette_splitting.h's RrsLearning).
+  std::string rrs = p.getChoice(
+      "rrs", "classic", {"classic", "adrrs", "ears"},
+      "Russian roulette and splitting: classic (rr's, on the throughput), adrrs (a weight window around the pixel "
+      "estimate, Vorba & Krivanek 2016) or ears (efficiency-aware, Rath et al. 2022), both from a cache learned "
+      "between passes");
+  s.rrs = rrs == "classic" ? RrsMethod::Classic : rrs == "adrrs" ? RrsMethod::Adrrs : RrsMethod::Ears;
+  if (s.rrs != RrsMethod::Classic || p.describing()) {
     p.setCondition("rrs: adrrs or ears");
     s.rrsWarmup = p.getInt("rrs_warmup", 4,
                            {"first passes with classic roulette, whose continuations only fill the cache",

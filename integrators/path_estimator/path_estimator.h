@@ -173,7 +173,10 @@ class PathObserver {
   // The path scattered at `si` into `s.ray` (`s.beta`, `s.prevPdf`, `s.prevDelta` updated).
   // With first_bounce_samples > 1 the branches are reported depth first, one
   // whole branch after another: an observer that keeps per-path state must
-  // tell them apart by s.branch (the guided integrator never branches).
+  // tell them apart by s.branch. So are rrs's split continuations: those
+  // traced at once (PathState::nesting one deeper) come before the one the
+  // line goes on with, whose vertices come last (guided's recorder,
+  // vertex_recorder.h, keeps each record's ancestors apart this way).
   virtual void scattered(const SurfaceInteraction& si, const PathState& s) = 0;
 };
 
@@ -254,6 +257,8 @@ class PathEstimator {
   static constexpr int MaxRecordedVertices = 64;  // later vertices of a line go unrecorded
   static constexpr int MaxNesting = 8;            // splits below this many go unsplit (q ≤ 1)
   static constexpr float MaxSplitProduct = 64;    // a path's factors multiply to at most this
+  // n = ⌊q + u⌋ is below this (q ≤ 20, and q + u may round up to 21 in float).
+  static constexpr int MaxSplitContinuations = int(MaxSplitFactor) + 2;
   // Roulette and splitting at `si` (path_splitting.cpp): the other
   // continuations are traced at once, into L; false if this line ends here.
   bool split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c, uint64_t& rays,

@@ -3,6 +3,7 @@
 // the continuation (the BSDF-sampled direction and all that follows) is
 // taken n = ⌊q + u⌋ times, each with throughput β/q: E[n/q] = 1 for any q > 0,
 // so the estimator stays unbiased whatever the cache has learned.
+#include <cassert>
 #include <cstring>
 #include <optional>
 #include "integrators/path_estimator/path_estimator.h"
@@ -64,21 +65,30 @@ bool PathEstimator::split(PathState& s, const SurfaceInteraction& si, const BSDF
   float u = c.sampler.get1D();
   float key = c.sampler.get1D();
   const int n = int(q + u);  // ⌊q + u⌋: E[n] = q
+  assert(n < MaxSplitContinuations);
   // Continuations 1 … n − 1, each drawing from a sampler of its own (keyed
   // by this vertex's two draws and its point, so two vertices share a
-  // stream only if all five agree), traced now.
+  // stream only if all five agree). All their directions are drawn first,
+  // while a guide (guided) still holds this vertex's distribution: tracing
+  // a continuation prepares it at the vertices further on.
+  std::optional<IndependentSampler> own[MaxSplitContinuations];
+  PathState next[MaxSplitContinuations];
+  bool alive[MaxSplitContinuations];
   for (int b = 1; b < n; ++b) {
-    IndependentSampler own(c.sampler.seed());
-    own.start(hashValues(bitsOf(u), bitsOf(key), bitsOf(si.p.x), bitsOf(si.p.y), bitsOf(si.p.z)), uint64_t(b));
-    PathContext branch{c.scene, own, c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs};
-    PathState next = first;
-    ++next.nesting;
+    own[b].emplace(c.sampler.seed());
+    own[b]->start(hashValues(bitsOf(u), bitsOf(key), bitsOf(si.p.x), bitsOf(si.p.y), bitsOf(si.p.z)), uint64_t(b));
+    next[b] = first;
+    ++next[b].nesting;
+    alive[b] = scatter(next[b], si, bsdf, *own[b], slots, c.guide, false);
+  }
+  for (int b = 1; b < n; ++b) {
+    PathContext branch{c.scene, *own[b], c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs};
     const uint64_t raysBefore = rays;
     Color Lb(0.f);
-    if (scatter(next, si, bsdf, own, slots, c.guide, false)) {
-      if (observer) observer->scattered(si, next);
-      ++next.vertex;
-      Lb = trace(next, branch, rays, observer);
+    if (alive[b]) {
+      if (observer) observer->scattered(si, next[b]);
+      ++next[b].vertex;
+      Lb = trace(next[b], branch, rays, observer);
     }
     L += Lb;
     r.record(slot, perUnitThroughput(Lb, first.beta), double(rays - raysBefore));

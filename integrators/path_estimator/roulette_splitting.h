@@ -167,4 +167,34 @@ struct RrsView {
   void record(size_t slot, const Color& L, double cost) const { cache->record(sums, slot, L, cost); }
 };
 
+// What an integrator that renders one camera sample per pixel per pass
+// (`path`, `guided`) keeps for rrs: adrrs | ears: the cache and the pixel
+// estimates, both learning after every pass.
+class RrsLearning {
+ public:
+  RrsLearning(RrsMethod method, int warmupPasses, const Bounds3& bounds, int cells, int minSamples, int width,
+              int height)
+      : method_(method), warmup_(warmupPasses), cache_(bounds, cells, minSamples), pixels_(width, height) {}
+  // The view for one camera sample of pixel (x, y), on the calling thread.
+  RrsView view(int x, int y) {
+    return {&cache_, cache_.threadSums(), method_, pixels_.passes() >= warmup_,
+            Color(1.f) / (pixels_.estimate(x, y) + Color(RelativePixelOffset)), pixels_.imageFactor()};
+  }
+  // That sample's estimate and the rays it traced.
+  void recordPixel(int x, int y, const Color& L, double rays) { pixels_.record(x, y, L, rays); }
+  // Between passes.
+  void endPass() {
+    cache_.update();
+    pixels_.update();
+  }
+  const ContinuationCache& cache() const { return cache_; }
+  const PixelEstimates& pixels() const { return pixels_; }
+
+ private:
+  RrsMethod method_;
+  int warmup_;
+  ContinuationCache cache_;
+  PixelEstimates pixels_;
+};
+
 }  // namespace lb

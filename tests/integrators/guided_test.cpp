@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include "core/error.h"
 #include "integrators/guided/sphere_map.h"
@@ -231,6 +232,55 @@ TEST(Guided, SameSeedGivesTheSameImageWithOneAndFourThreads) {
   }
 }
 
+// Learned roulette and splitting (rrs: adrrs | ears) inside guided: the
+// same image in expectation as the path tracer's (each guided method with
+// each rule, the cache learned from the runs' own passes, warm-up short so
+// most passes split), and the same bits with one thread or two.
+const char* const LearnedRoulette[] = {"adrrs", "ears"};
+
+std::string withRrs(const char* method, const char* rrs) {
+  std::string params = method;
+  params.pop_back();
+  return params + ", rrs: " + rrs + ", rrs_warmup: 2, rrs_min_samples: 8}";
+}
+
+TEST(Guided, LearnedRouletteAndSplittingAgreeWithPath) {
+  const int Seeds = 12, Regions = 2;
+  SceneFile sf = loadShippedScene("cornell-box", 24, 24);
+  SeedMeans path = seedMeans(sf, {"path", "{}", 1024}, Seeds, Regions, Regions, 300);
+  for (const auto& m : Methods)
+    for (const char* rrs : LearnedRoulette) {
+      std::string params = withRrs(m[1], rrs);
+      SeedMeans guided = seedMeans(sf, {"guided", params, 256}, Seeds, Regions, Regions, 900);
+      EXPECT_EQ(guided.nonFinite, 0u) << params;
+      std::string failures = compareSeedMeans(guided, path, Alpha, Regions * Regions * 3 * 4);
+      EXPECT_TRUE(failures.empty()) << params << ":" << failures;
+      const RunningStats& a = guided.imageLuminance;
+      const RunningStats& r = path.imageLuminance;
+      double se = std::sqrt(a.varianceOfMean() + r.varianceOfMean());
+      double bound = studentCritical(sidak(Alpha, 4), Seeds - 1) * se;
+      std::cout << params << ": mean luminance " << a.mean << " vs path " << r.mean << ", bound ±" << bound << " ("
+                << 100 * bound / r.mean << " %)\n";
+      EXPECT_LE(std::abs(a.mean - r.mean), bound) << params;
+      EXPECT_LE(bound + normalCritical(0.2) * se, 0.05 * r.mean) << params << ": too noisy to see 5 %";
+    }
+}
+
+TEST(Guided, LearnedRouletteIsBitIdenticalWithOneAndTwoThreadsAndSplits) {
+  SceneFile sf = loadShippedScene("cornell-box", 32, 32);
+  for (const auto& m : Methods)
+    for (const char* rrs : LearnedRoulette) {
+      std::string params = withRrs(m[1], rrs);
+      Image one = renderScene(sf, {"guided", params, 8, 5, 1})->image();
+      Image two = renderScene(sf, {"guided", params, 8, 5, 2})->image();
+      EXPECT_EQ(one.pixels, two.pixels) << params;
+      // The learned factors changed the image (against the warm-up's classic roulette throughout).
+      std::string warmUp = params.substr(0, params.size() - 1) + ", rrs_warmup: 100}";
+      warmUp.replace(warmUp.find("rrs_warmup: 2, "), std::strlen("rrs_warmup: 2, "), "");
+      EXPECT_NE(one.pixels, renderScene(sf, {"guided", warmUp, 8, 5, 1})->image().pixels) << params;
+    }
+}
+
 TEST(Guided, RefusesSettingsItCannotHonour) {
   for (const char* yaml :
        {"{sampling: cosine}", "{engine: wavefront}", "{first_bounce_samples: 2}", "{bsdf_fraction: 0}",
@@ -239,6 +289,11 @@ TEST(Guided, RefusesSettingsItCannotHonour) {
     Params p(node, "x.yaml", "integrator");
     EXPECT_THROW(makeIntegrator("guided", p, "x.yaml", 1), ConfigError) << yaml;
   }
+  // Learned roulette learns from every pass: low-discrepancy samplers are refused.
+  SceneFile sobol = loadShippedScene("cornell-box", 8, 8, "sampler: {type: sobol}");
+  for (const char* rrs : LearnedRoulette)
+    EXPECT_THROW(renderScene(sobol, {"guided", withRrs(Methods[0][1], rrs), 1, 1}), std::invalid_argument) << rrs;
+  EXPECT_NO_THROW(renderScene(sobol, {"guided", Methods[0][1], 1, 1}));
 }
 
 }  // namespace
