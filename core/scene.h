@@ -35,6 +35,7 @@ class Scene {
     return int(materials_.size()) - 1;
   }
   const Material& material(int id) const { return *materials_[size_t(id)]; }
+  size_t materialCount() const { return materials_.size(); }
   void addShape(Shape shape, Emission emission = {});
   void addLight(std::unique_ptr<Light> light) { lights_.push_back(std::move(light)); }
   // Objects and their instances (pbrt-v4's ObjectBegin / ObjectInstance): an

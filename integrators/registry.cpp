@@ -15,12 +15,20 @@ namespace lb {
 namespace {
 bool always(const YAML::Node&) { return true; }
 bool never(const YAML::Node&) { return false; }
+bool isTrue(const YAML::Node& n) {
+  try {
+    return n && n.IsScalar() && n.as<bool>();
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
 }  // namespace
 
 const std::vector<IntegratorEntry>& integratorRegistry() {
   static const std::vector<IntegratorEntry> table = {
       {"path", "unidirectional path tracing: uniform/cosine/BSDF sampling, NEE, MIS, Russian roulette",
-       [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); }, always},
+       [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); },
+       [](const YAML::Node& p) { return !isTrue(p["regularize"]); }},
       {"light", "light tracing: particles from the lights splatted to the camera (t = 1 strategies)",
        [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }, always},
       {"bdpt", "bidirectional path tracing, every (s,t) strategy, MIS balance/power/uniform",

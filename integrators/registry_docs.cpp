@@ -43,7 +43,7 @@ std::vector<std::string> choices(const std::string& allowed) {
 }
 
 // One integrator against a property: at its defaults, and the settings (one
-// value of one choice key) under which it differs from its defaults.
+// value of one choice or bool key) under which it differs from its defaults.
 struct Verdict {
   std::string name, why;  // why it lacks the property at its defaults ("" if it has it)
   std::vector<std::pair<std::string, std::string>> exceptions;  // "`key: value`", why not there
@@ -57,8 +57,9 @@ struct Verdict {
 Verdict judge(const IntegratorEntry& e, const std::string& property) {
   Verdict v{e.name, whyNot(e, property, YAML::Node(YAML::NodeType::Map)), {}};
   for (const KeyDoc& k : integratorKeys(e.name)) {
-    if (k.type != "choice" || !k.condition.empty()) continue;
-    for (const std::string& value : choices(k.allowed)) {
+    if ((k.type != "choice" && k.type != "bool") || !k.condition.empty()) continue;
+    std::vector<std::string> values = k.type == "bool" ? std::vector<std::string>{"true", "false"} : choices(k.allowed);
+    for (const std::string& value : values) {
       if (value == k.fallback) continue;
       YAML::Node yaml(YAML::NodeType::Map);
       yaml[k.key] = value;

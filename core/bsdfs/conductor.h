@@ -27,6 +27,7 @@ class SmoothConductor final : public Material {
   }
   float pdf(const Vec3&, const Vec3&) const override { return 0; }
   uint32_t flags() const override { return BSDFReflection | BSDFSpecular; }
+  std::unique_ptr<Material> mollified(float alpha) const override;
 
  private:
   ConductorFresnel fresnel_;
@@ -73,5 +74,11 @@ class RoughConductor final : public Material {
   ConductorFresnel fresnel_;
   Microfacet mf_;
 };
+
+inline std::unique_ptr<Material> SmoothConductor::mollified(float alpha) const {
+  auto twin = std::make_unique<RoughConductor>(fresnel_, alpha);
+  shareSurfaceWith(*twin);
+  return twin;
+}
 
 }  // namespace lb

@@ -91,4 +91,10 @@ std::optional<BSDFSample> RoughDielectric::sample(const Vec3& wo, float uLobe, V
   return BSDFSample{wi, e.f, e.pdf, e.pdfRev, lobe, etap};
 }
 
+std::unique_ptr<Material> SmoothDielectric::mollified(float alpha) const {
+  auto twin = std::make_unique<RoughDielectric>(eta_, alpha);
+  shareSurfaceWith(*twin);
+  return twin;
+}
+
 }  // namespace lb

@@ -16,6 +16,7 @@ class SmoothDielectric final : public Material {
   float pdf(const Vec3&, const Vec3&) const override { return 0; }
   uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
   float relativeEta(const Vec3& wo) const override { return wo.z > 0 ? eta_ : 1 / eta_; }
+  std::unique_ptr<Material> mollified(float alpha) const override;
 
  private:
   float eta_;

@@ -102,6 +102,20 @@ class Material {
   bool isDelta() const { return (flags() & BSDFSpecular) && !(flags() & (BSDFDiffuse | BSDFGlossy)); }
   bool hasTransmission() const { return flags() & BSDFTransmission; }
 
+  // Path-space regularization (Kaplanyan & Dachsbacher 2013): this delta
+  // material mollified into a rough twin, a GGX lobe of width `alpha` about
+  // each of its specular directions (same IOR or Fresnel, texture and
+  // surface maps); null for materials without one (non-delta ones, and thin
+  // dielectrics, whose rough form would be a different slab).
+  virtual std::unique_ptr<Material> mollified(float /*alpha*/) const { return nullptr; }
+
+ protected:
+  // The texture and surface maps, shared with a twin (mollified()).
+  void shareSurfaceWith(Material& twin) const {
+    twin.texture_ = texture_;
+    twin.maps_ = maps_;
+  }
+
  private:
   std::shared_ptr<const Texture> texture_;
   SurfaceMaps maps_;

@@ -12,6 +12,7 @@ PathTracer::~PathTracer() = default;
 
 void PathTracer::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
   if (wavefront_) return wavefront_->renderPass(scene, film, prototype, pass, stats);
+  if (regularization_) regularization_->prepare(scene, pass);  // this pass's roughness, fixed while it renders
   PixelIntegrator::renderPass(scene, film, prototype, pass, stats);
   // Variance-aware MIS learns between passes only, so every pass's image
   // is the same whatever the thread count.
@@ -25,11 +26,11 @@ Color PathTracer::pixelLi(int x, int y, const Ray& ray, const Scene& scene, Samp
   if (rrs_) {
     RrsView view = rrs_->view(x, y);
     const uint64_t raysBefore = rays;
-    Color L = estimator_.Li(ray, scene, sampler, rays, nullptr, &view);
+    Color L = estimator_.Li(ray, scene, sampler, rays, nullptr, &view, regularization_.get());
     rrs_->recordPixel(x, y, L, double(rays - raysBefore));
     return L;
   }
-  if (!varianceAware_) return estimator_.Li(ray, scene, sampler, rays);
+  if (!varianceAware_) return estimator_.Li(ray, scene, sampler, rays, nullptr, nullptr, regularization_.get());
   VarianceAwareView view{varianceAware_.get(), x, y, !varianceAware_->finished()};
   return estimator_.Li(ray, scene, sampler, rays, &view);
 }
@@ -49,6 +50,7 @@ void PathTracer::preprocess(const Scene& scene, const Sampler& prototype) {
     varianceAware_ = std::make_unique<VarianceAwareMis>(scene.camera.width(), scene.camera.height(), s.factorBlock);
     pilotPassesDone_ = 0;
   }
+  if (s.regularization.enabled) regularization_ = std::make_unique<Regularization>(s.regularization);
   if (s.rrs != RrsMethod::Classic)
     rrs_ = std::make_unique<RrsLearning>(s.rrs, s.rrsWarmup, scene.bounds(), s.rrsCells, s.rrsMinSamples,
                                          scene.camera.width(), scene.camera.height());

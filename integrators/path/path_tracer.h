@@ -14,8 +14,11 @@ namespace lb {
 
 class PathTracer final : public PixelIntegrator {
  public:
-  // Unbiased with independent passes: chunks of passes split a render exactly.
-  std::string splitRefusal() const override { return ""; }
+  // Unbiased with independent passes: chunks of passes split a render exactly
+  // (not a regularized one, whose roughness depends on the pass).
+  std::string splitRefusal() const override {
+    return estimator_.settings().regularization.enabled ? "regularize: its roughness follows the passes' count" : "";
+  }
   explicit PathTracer(PathTracerSettings s);
   ~PathTracer() override;
   void preprocess(const Scene& scene, const Sampler& prototype) override;
@@ -26,11 +29,14 @@ class PathTracer final : public PixelIntegrator {
     if (estimator_.settings().mis == MisHeuristic::VarianceAware)
       return "mis: variance_aware learns its factors from whole passes";
     if (estimator_.settings().rrs != RrsMethod::Classic) return "rrs: adrrs and ears learn from whole passes";
+    if (estimator_.settings().regularization.enabled) return "regularize: its roughness shrinks pass by pass";
     return "";
   }
-  // A learning estimator's sample depends on every pass before it.
+  // A learning estimator's sample depends on every pass before it; a
+  // regularized one on its pass's roughness.
   bool replaysSamples() const override {
-    return estimator_.settings().mis != MisHeuristic::VarianceAware && estimator_.settings().rrs == RrsMethod::Classic;
+    const PathTracerSettings& s = estimator_.settings();
+    return s.mis != MisHeuristic::VarianceAware && s.rrs == RrsMethod::Classic && !s.regularization.enabled;
   }
   const PathEstimator& estimator() const { return estimator_; }
 
@@ -50,6 +56,8 @@ class PathTracer final : public PixelIntegrator {
   // rrs: adrrs | ears: the continuations' cache and the pixel estimates,
   // both updated after every pass (roulette_splitting.h).
   std::unique_ptr<RrsLearning> rrs_;
+  // regularize: the scene's rough twins for the pass being rendered.
+  std::unique_ptr<Regularization> regularization_;
 };
 
 }  // namespace lb

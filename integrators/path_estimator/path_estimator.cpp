@@ -78,6 +78,21 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
       "estimate, Vorba & Krivanek 2016) or ears (efficiency-aware, Rath et al. 2022), both from a cache learned "
       "between passes");
   s.rrs = rrs == "classic" ? RrsMethod::Classic : rrs == "adrrs" ? RrsMethod::Adrrs : RrsMethod::Ears;
+  if (directionKeys) {
+    s.regularization.enabled = p.getBool(
+        "regularize", false,
+        "path-space regularization (Kaplanyan & Dachsbacher 2013): a delta vertex after a non-delta one scatters "
+        "by a GGX twin whose roughness shrinks pass by pass; consistent, not unbiased");
+    if (s.regularization.enabled || p.describing()) {
+      p.setCondition("regularize: true");
+      s.regularization.initialRoughness =
+          p.getFloat("regularize_roughness", 0.1f, {"α_0, the twins' GGX roughness in the first pass", Range::open(0, 1)});
+      s.regularization.exponent = p.getFloat(
+          "regularize_exponent", 1.f / 6.f,
+          {"λ: pass k's roughness is α_0 (k + 1)^-λ; consistent for 0 < λ < 1/2, fixed at 0", Range{0.0, 0.5, false, true}});
+      p.setCondition("");
+    }
+  }
   if (s.rrs != RrsMethod::Classic || p.describing()) {
     p.setCondition("rrs: adrrs or ears");
     s.rrsWarmup = p.getInt("rrs_warmup", 4,
@@ -115,6 +130,11 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
     // A learned factor may stay ≥ 1 along a path (a white furnace): only max_depth ends it then.
     if (s.length.maxDepth < 0) p.fail("max_depth", "rrs: adrrs and ears need a finite max_depth");
   }
+  if (s.regularization.enabled && s.sampling != DirectionSampling::Bsdf)
+    p.fail("sampling", "regularize: the rough twins of glass transmit, which cosine and uniform sampling miss; use "
+                       "sampling: bsdf");
+  if (s.regularization.enabled && s.wavefront)
+    p.fail("engine", "regularize: the single-ray engine prepares each pass's rough twins; use engine: single_ray");
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
   if (s.mis == MisHeuristic::OneSample && s.shadowRays > 1)
@@ -167,13 +187,15 @@ float PathEstimator::misWeight(float nThis, float pdfThis, float nOther, float p
 
 Color PathEstimator::incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxDepth,
                                    bool firstEmission, float* firstHitDistance,
-                                   const VarianceAwareView* varianceAware, const RrsView* rrs) const {
+                                   const VarianceAwareView* varianceAware, const RrsView* rrs,
+                                   const Regularization* regularization) const {
   if (firstHitDistance) *firstHitDistance = Infinity;
   if (maxDepth < 1) return Color(0.f);  // max_depth 0 renders black
   PathState state;
   state.ray = ray;
   state.prevPoint = ray.o;
-  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension(), nullptr, varianceAware, rrs};
+  PathContext ctx{scene, sampler, maxDepth, firstEmission, sampler.dimension(), nullptr, varianceAware, rrs,
+                  regularization};
   return trace(state, ctx, rays, firstHitDistance, nullptr);
 }
 
@@ -303,7 +325,10 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     }
   }
   if (!canContinue) return 0;
-  const BSDF& bsdf = bsdfOut.emplace(si);
+  // regularize: a delta vertex after a non-delta one scatters by its
+  // material's rough twin (regularization.h), light samples included.
+  const Material* twin = c.regularization && s.pastNonDelta ? c.regularization->twin(si.material) : nullptr;
+  const BSDF& bsdf = twin ? bsdfOut.emplace(si, twin) : bsdfOut.emplace(si);
   bool delta = bsdf.isDelta();
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !delta;
   bool guided = c.guide && c.guide->prepare(si, bsdf);
@@ -404,6 +429,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
     next.prevDelta = bs->isDelta();
   }
   if (isBlack(next.beta)) return false;
+  if (!bsdf.isDelta()) next.pastNonDelta = true;
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
   if (!roulette) return true;

@@ -19,6 +19,7 @@
 //   max_depth, rr, rr_depth              path length and roulette (path_length.h)
 //   rrs        classic | adrrs | ears     roulette and splitting: rr's, or learned (roulette_splitting.h)
 //   rrs_warmup, rrs_cells, rrs_min_samples  adrrs | ears: the passes before learned factors, the cache's grid
+//   regularize, regularize_roughness, regularize_exponent  path-space regularization (regularization.h)
 // (these are the `path` integrator's keys, read by PathTracerSettings::read)
 //
 // With nee on and mis none, emitters hit after a non-delta bounce are ignored
@@ -70,6 +71,7 @@
 #include "core/sampler.h"
 #include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
+#include "integrators/path_estimator/regularization.h"
 #include "integrators/path_estimator/roulette_splitting.h"
 #include "integrators/path_estimator/variance_aware_mis.h"
 #include "integrators/path_length.h"
@@ -92,6 +94,7 @@ struct PathTracerSettings {
   bool misCompensation = false;  // NEE from lights' MIS-compensated densities (core/lights/light.h)
   int pilotPasses = 1;           // mis: variance_aware: passes that learn its factors
   int factorBlock = 8;           // mis: variance_aware: pixels per side of the blocks its moments pool
+  RegularizationSettings regularization;  // regularize: path-space regularization (regularization.h)
   RrsMethod rrs = RrsMethod::Classic;  // roulette and splitting (roulette_splitting.h)
   int rrsWarmup = 4;             // rrs: adrrs | ears: passes of classic roulette before the learned factors
   int rrsCells = 8;              // … the cache's cells along the scene's longest side
@@ -131,6 +134,7 @@ struct PathState {
   int branch = 0;                // which of the first vertex's M directions this path took
   float splitProduct = 1;        // rrs: the product of the roulette and split factors so far
   int nesting = 0;               // rrs: depth of recursion (continuations 1 … n − 1 of a split are one deeper)
+  bool pastNonDelta = false;     // the path has scattered at a non-delta vertex (regularize: where it applies)
 };
 
 // What a path's vertices share: the scene, the sampler (started for the
@@ -148,6 +152,7 @@ struct PathContext {
   DirectionGuide* guide = nullptr;
   const VarianceAwareView* varianceAware = nullptr;  // mis: variance_aware: this sample's factors
   const RrsView* rrs = nullptr;  // rrs: adrrs | ears: the cache and this sample's pixel
+  const Regularization* regularization = nullptr;  // regularize: this pass's rough twins
 };
 
 // A light sample waiting for its visibility test: `contribution` (weighted,
@@ -199,15 +204,17 @@ class PathEstimator {
   // caller restarts it (start()) before drawing again.
   Color incidentRadiance(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays, int maxSegments,
                          bool firstEmission, float* firstHitDistance = nullptr,
-                         const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr) const;
+                         const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr,
+                         const Regularization* regularization = nullptr) const;
   // A camera path: all of max_depth, emission of the first hit included.
   // `varianceAware`: this pixel's factors (mis: variance_aware); `rrs`: the
   // roulette and splitting cache and this pixel (rrs: adrrs | ears). The
   // path integrator owns both.
   Color Li(const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays,
-           const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr) const {
+           const VarianceAwareView* varianceAware = nullptr, const RrsView* rrs = nullptr,
+           const Regularization* regularization = nullptr) const {
     return incidentRadiance(ray, scene, sampler, rays, settings_.length.maxSegments(), true, nullptr, varianceAware,
-                            rrs);
+                            rrs, regularization);
   }
 
   // The estimator, one vertex at a time, shared by the single-ray loop and

@@ -247,15 +247,16 @@ TEST(IntegratorKeys, TheGuidesKeyTablesMatchTheCode) {
 
 TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   // Hand-checked facts the generator must reproduce: the variants come from
-  // choice keys, in both directions.
+  // choice and bool keys, in both directions.
   // (Containment, not the whole list: a new integrator must not need this test edited.)
   std::string splits = integratorsWith("splits");
-  for (const char* item : {"`path`, ", "`bdpt`, ", "`vcm` with `mode: bpt`"})
+  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt`, ", "`vcm` with `mode: bpt`"})
     EXPECT_NE(splits.find(item), std::string::npos) << item << " in " << splits;
   for (const char* name : {"`sppm`", "`photon`", "`mlt`", "`irradiance_cache`"})
     EXPECT_EQ(splits.find(name), std::string::npos) << name << " in " << splits;
   EXPECT_NE(integratorsWith("adaptive").find(
-                "`path` (not with `mis: variance_aware` or `engine: wavefront` or `rrs: adrrs` or `rrs: ears`)"),
+                "`path` (not with `mis: variance_aware` or `engine: wavefront` or `rrs: adrrs` or `rrs: ears` or "
+                "`regularize: true`)"),
             std::string::npos);
   EXPECT_EQ(integratorsWith("adaptive").find("`bdpt`"), std::string::npos);
   EXPECT_THROW(integratorsWith("fast"), ConfigError);
@@ -264,7 +265,8 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   EXPECT_NE(cannot.find("- `vcm` (not with `mode: bpt` or `mode: lvc`): its merging radius"), std::string::npos)
       << cannot;
   EXPECT_NE(cannot.find("- `sppm`: each pass shrinks"), std::string::npos) << cannot;
-  EXPECT_EQ(cannot.find("`path`"), std::string::npos) << cannot;
+  EXPECT_EQ(cannot.find("- `path`:"), std::string::npos) << cannot;
+  EXPECT_NE(cannot.find("- `path` with `regularize: true`: regularize: its roughness"), std::string::npos) << cannot;
   EXPECT_NE(integratorsWithout("adaptive").find("- `path` with `engine: wavefront`: engine: wavefront traces"),
             std::string::npos);
   EXPECT_NE(integratorNames().find("`path`, `light`, `bdpt`"), std::string::npos);
