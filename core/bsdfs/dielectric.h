@@ -17,6 +17,7 @@ class SmoothDielectric final : public Material {
   uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
   float relativeEta(const Vec3& wo) const override { return wo.z > 0 ? eta_ : 1 / eta_; }
   std::unique_ptr<Material> mollified(float alpha) const override;
+  float eta() const { return eta_; }  // interior over exterior (manifold next-event estimation reads it)
 
  private:
   float eta_;

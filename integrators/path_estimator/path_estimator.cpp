@@ -92,6 +92,17 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
           {"λ: pass k's roughness is α_0 (k + 1)^-λ; consistent for 0 < λ < 1/2, fixed at 0", Range{0.0, 0.5, false, true}});
       p.setCondition("");
     }
+    s.mnee = p.getBool("mnee", false,
+                       "manifold next-event estimation (Hanika et al. 2015): light samples behind smooth glass or "
+                       "water connect through it by Newton's method; biased where a chain has several solutions");
+    if (s.mnee || p.describing()) {
+      p.setCondition("mnee: true");
+      s.manifold.maxChain = p.getInt("mnee_max_chain", 2,
+                                     {"refracting surfaces a manifold connection may cross (1: a water surface, 2: "
+                                      "into and out of a glass sphere)",
+                                      Range::between(1, ManifoldConnection::MaxChain)});
+      p.setCondition("");
+    }
   }
   if (s.rrs != RrsMethod::Classic || p.describing()) {
     p.setCondition("rrs: adrrs or ears");
@@ -135,6 +146,10 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                        "sampling: bsdf");
   if (s.regularization.enabled && s.wavefront)
     p.fail("engine", "regularize: the single-ray engine prepares each pass's rough twins; use engine: single_ray");
+  if (s.mnee && !s.nee) p.fail("mnee", "manifold next-event estimation is a kind of next-event estimation; use nee: true");
+  if (s.mnee && s.wavefront) p.fail("engine", "mnee: the single-ray engine solves each manifold connection; use engine: single_ray");
+  if (s.mnee && s.regularization.enabled)
+    p.fail("regularize", "mnee and regularize both replace the paths through glass after a diffuse vertex; choose one");
   if (s.wavefront && s.firstBounceSamples > 1)
     p.fail("first_bounce_samples", "engine: wavefront does not branch paths; use engine: single_ray");
   if (s.mis == MisHeuristic::OneSample && s.shadowRays > 1)
@@ -205,7 +220,7 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
                            PathObserver* observer) const {
   const int M = settings_.firstBounceSamples;
   Color L(0.f);
-  ShadowRequest shadows[MaxShadowRays];
+  ShadowRequest shadows[MaxShadowRequests];
   Continuation pending[MaxRecordedVertices];  // rrs: this line's continuations, recorded when it ends
   int pendingCount = 0;
   for (;; ++s.vertex) {
@@ -304,7 +319,10 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
     return 0;
   }
   bool canContinue = segments < c.maxDepth && si.material;
-  if (si.emitter && countEmission) {
+  // mnee: a light reached through 1 … max_chain refractions after a
+  // non-delta vertex is that vertex's manifold connection's to count.
+  bool manifoldCovers = settings_.mnee && s.manifoldChain >= 1;
+  if (si.emitter && countEmission && !manifoldCovers) {
     Color Le = si.emitter->L(si.ng, si.wo);
     recordEmission(s.beta * Le);
     Color emitted = isBlack(Le) ? Color(0.f)
@@ -375,6 +393,10 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
         }
     }
   }
+  // Manifold next-event estimation: one more light sample, connected
+  // through the glass its straight segment crosses (manifold_nee.cpp).
+  if (settings_.mnee && !delta && !c.scene.lightSampler().empty())
+    if (manifoldLightSample(s, si, bsdf, c, base + settings_.manifoldSlot(), shadows[n])) ++n;
   s.prevLightChosen = lightChosen;
   s.prevBsdfCount = bsdfCount;
   return n;
@@ -388,6 +410,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   float uLobe = sampler.get1D();
   Vec2 uDir = sampler.get2D();
   Vec3 wi;
+  bool refracted = false;  // through a delta transmission lobe
   // A direction drawn by some other density than the BSDF's own sampling:
   // f·|cos θ| / pdf, with f evaluated for it (or known).
   auto takeDirection = [&](const Vec3& d, float pdf, const Color* knownF = nullptr) {
@@ -424,12 +447,14 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
     if (!bs) return false;
     next.beta *= bs->weight;
     if (bs->lobe & BSDFTransmission) next.etaScale *= sqr(bs->eta);
+    refracted = bs->isDelta() && (bs->lobe & BSDFTransmission);
     wi = bs->wi;
     next.prevPdf = bs->pdf;
     next.prevDelta = bs->isDelta();
   }
   if (isBlack(next.beta)) return false;
   if (!bsdf.isDelta()) next.pastNonDelta = true;
+  if (settings_.mnee) next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted);
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
   if (!roulette) return true;

@@ -20,6 +20,7 @@
 //   rrs        classic | adrrs | ears     roulette and splitting: rr's, or learned (roulette_splitting.h)
 //   rrs_warmup, rrs_cells, rrs_min_samples  adrrs | ears: the passes before learned factors, the cache's grid
 //   regularize, regularize_roughness, regularize_exponent  path-space regularization (regularization.h)
+//   mnee, mnee_max_chain                 manifold next-event estimation (manifold_nee.cpp)
 // (these are the `path` integrator's keys, read by PathTracerSettings::read)
 //
 // With nee on and mis none, emitters hit after a non-delta bounce are ignored
@@ -41,6 +42,12 @@
 //    (Veach 1997 Eq. 9.15 and §9.2.4). The path always continues with the
 //    BSDF direction; the emitter it reaches counts only if that vertex chose
 //    the BSDF strategy. Weights sum to 1: w_L + w_f = 1.
+//  * manifold next-event estimation (Hanika, Droske & Fascione 2015): at
+//    a non-delta vertex one more light point y, sampled by area, connects
+//    through the smooth refracting surfaces its straight segment crosses
+//    (integrators/manifold/specular_chain.h); the paths it finds (1 …
+//    mnee_max_chain refractions between a non-delta vertex and an area
+//    light) are its own, so BSDF sampling's hits of them count zero;
 //  * emit vs reflect: at an emitter where the path could continue, the
 //    (weighted) emission is taken with probability p and the path ends, else
 //    the emission is skipped and β is divided by 1 − p (Russian roulette over
@@ -57,6 +64,7 @@
 //     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
 //     6 + 4N        (rrs: adrrs | ears only) the key of the split's other
 //                   continuations, which draw from samplers of their own
+//     then, with mnee, 4 more: its light, pick, and 2-D point
 // At the first vertex, slots 0, 1 and the shadow rays are branch 0's; each
 // branch b draws its own lobe, direction and roulette. So a low-discrepancy
 // sampler gives every vertex the same dimensions on every path. Draws go
@@ -74,6 +82,7 @@
 #include "integrators/path_estimator/regularization.h"
 #include "integrators/path_estimator/roulette_splitting.h"
 #include "integrators/path_estimator/variance_aware_mis.h"
+#include "integrators/manifold/specular_chain.h"
 #include "integrators/path_length.h"
 
 namespace lb {
@@ -99,6 +108,8 @@ struct PathTracerSettings {
   int rrsWarmup = 4;             // rrs: adrrs | ears: passes of classic roulette before the learned factors
   int rrsCells = 8;              // … the cache's cells along the scene's longest side
   int rrsMinSamples = 64;        // … continuations a cache bin needs before it is used
+  bool mnee = false;             // manifold next-event estimation (manifold_nee.cpp)
+  ManifoldSettings manifold;     // mnee: the solver's settings (mnee_max_chain)
   PathLength length;
 
   // Without `directionKeys`, the keys that change how directions are drawn
@@ -107,7 +118,8 @@ struct PathTracerSettings {
   static PathTracerSettings read(Params& p, bool directionKeys = true);
   // Dimensions one vertex of one branch takes (S above), and where its
   // direction sampling (lobe, direction, roulette) begins.
-  uint32_t vertexStride() const { return (rrs == RrsMethod::Classic ? 6 : 7) + 4 * uint32_t(shadowRays); }
+  uint32_t vertexStride() const { return manifoldSlot() + (mnee ? 4 : 0); }
+  uint32_t manifoldSlot() const { return (rrs == RrsMethod::Classic ? 6 : 7) + 4 * uint32_t(shadowRays); }
   uint32_t scatterSlot() const { return 2 + 4 * uint32_t(shadowRays); }
 };
 
@@ -135,6 +147,7 @@ struct PathState {
   float splitProduct = 1;        // rrs: the product of the roulette and split factors so far
   int nesting = 0;               // rrs: depth of recursion (continuations 1 … n − 1 of a split are one deeper)
   bool pastNonDelta = false;     // the path has scattered at a non-delta vertex (regularize: where it applies)
+  int manifoldChain = -1;        // mnee: refractions since the last non-delta vertex (−1: none since, or not only)
 };
 
 // What a path's vertices share: the scene, the sampler (started for the
@@ -188,6 +201,7 @@ class PathObserver {
 class PathEstimator {
  public:
   static constexpr int MaxShadowRays = 64;
+  static constexpr int MaxShadowRequests = MaxShadowRays + 1;  // and mnee's
 
   explicit PathEstimator(PathTracerSettings s) : settings_(s) {}
   // Light selection tables (light_selection: uniform | power | spatial);
@@ -270,6 +284,11 @@ class PathEstimator {
   // continuations are traced at once, into L; false if this line ends here.
   bool split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c, uint64_t& rays,
              Color& L, PathObserver* observer, Continuation* pending, int& pendingCount) const;
+  // mnee (manifold_nee.cpp): the manifold connection from `si` as a shadow
+  // request (false if there is none), and the chain count after scattering.
+  bool manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
+                           uint32_t slot, ShadowRequest& out) const;
+  int manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted) const;
   const Light* chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const;
   float lightPmf(const Scene& scene, const Vec3& p, const Light* light) const;
 
