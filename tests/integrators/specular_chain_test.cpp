@@ -80,6 +80,17 @@ std::vector<ChainCase> chainCases() {
       "flat-water.yaml");
   SurfaceInteraction x0 = hitAlong(*flat.scene, {0.2f, -0.5f, 0.1f});
   cases.push_back({"flat water", std::move(flat), x0, Vec3(1, 2, -0.5), 1});
+  // A glass slab (0.2 thick) over a floor: two refractions at parallel faces.
+  SceneFile slab = loadSceneFromString(
+      "camera: {position: [0, 3, 3], look_at: [0, 0, 0], fov: 40}\n"
+      "materials: {floor: {type: diffuse, albedo: 0.8}, glass: {type: dielectric, ior: 1.5}}\n"
+      "shapes:\n"
+      "  - {type: rectangle, material: floor, transform: {scale: 3, rotate_x: -90, translate: [0, -1, 0]}}\n"
+      "  - {type: box, material: glass, transform: {scale: [1.5, 0.1, 1.5]}}\n"
+      "lights: [{type: point, position: [0.3, 1.5, -0.2], intensity: 1}]\n",
+      "glass-slab.yaml");
+  x0 = hitAlong(*slab.scene, {0.6f, -0.5f, 0.4f});
+  cases.push_back({"glass slab", std::move(slab), x0, Vec3(0.3f, 1.5f, -0.2f), 2});
   // The caustic scene's sphere and light, x_0 in the caustic beside the
   // sphere's contact point (found from below the floor).
   SceneFile sphere = loadShippedScene("caustic-glass-sphere", 64, 48);
@@ -138,7 +149,7 @@ TEST(SpecularChain, NoChainWhereTheSegmentCrossesNoGlassOrAnOpaqueSurface) {
   // Through the floor: blocked.
   EXPECT_FALSE(connectThroughSpecularChain(*flat.scene.scene, flat.x0, Vec3(0.5f, -2, 0), {}));
   // The sphere's chain has two vertices: refused with one allowed.
-  const ChainCase& sphere = cases[1];
+  const ChainCase& sphere = cases[2];
   ManifoldSettings one;
   one.maxChain = 1;
   EXPECT_FALSE(connectThroughSpecularChain(*sphere.scene.scene, sphere.x0, sphere.y, one));
