@@ -28,7 +28,10 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
   static const std::vector<IntegratorEntry> table = {
       {"path", "unidirectional path tracing: uniform/cosine/BSDF sampling, NEE, MIS, Russian roulette",
        [](Params& p) { return std::make_unique<PathTracer>(PathTracerSettings::read(p)); },
-       [](const YAML::Node& p) { return !isTrue(p["regularize"]) && !isTrue(p["mnee"]); }},
+       [](const YAML::Node& p) {
+         return !isTrue(p["regularize"]) && !isTrue(p["mnee"]) && (!p["sms"] || !p["sms"].IsScalar() ||
+                                                                  p["sms"].Scalar() == "off");
+       }},
       {"light", "light tracing: particles from the lights splatted to the camera (t = 1 strategies)",
        [](Params& p) { return std::make_unique<LightTracer>(LightTracerSettings::read(p)); }, always},
       {"bdpt", "bidirectional path tracing, every (s,t) strategy, MIS balance/power/uniform",

@@ -218,14 +218,28 @@ bool seedSpecularChain(const Scene& scene, const SurfaceInteraction& x0, const V
 }
 
 std::optional<ManifoldConnection> connectThroughSpecularChain(const Scene& scene, const SurfaceInteraction& x0,
-                                                              const Vec3& yFloat, const ManifoldSettings& settings) {
-  Chain ch;
+                                                              const Vec3& y, const ManifoldSettings& settings) {
   SurfaceInteraction seeds[MaxChain];
-  int maxChain = std::min(settings.maxChain, MaxChain);
-  if (!seedSpecularChain(scene, x0, yFloat, maxChain, seeds, &ch.k) || ch.k == 0) return std::nullopt;
+  int k = 0;
+  if (!seedSpecularChain(scene, x0, y, std::min(settings.maxChain, MaxChain), seeds, &k) || k == 0)
+    return std::nullopt;
+  return solveSpecularChain(scene, x0, y, seeds, k, settings);
+}
+
+bool isSpecularChainSurface(const Scene& scene, const SurfaceInteraction& si) {
+  return localSurface(scene, si).has_value();
+}
+
+std::optional<ManifoldConnection> solveSpecularChain(const Scene& scene, const SurfaceInteraction& x0,
+                                                     const Vec3& yFloat, const SurfaceInteraction* seeds, int k,
+                                                     const ManifoldSettings& settings) {
+  Chain ch;
+  ch.k = k;
   for (int i = 0; i < ch.k; ++i) {
+    auto surface = localSurface(scene, seeds[i]);
+    if (!surface) return std::nullopt;
     ch.hits[i] = seeds[i];
-    ch.surfaces[i] = *localSurface(scene, seeds[i]);
+    ch.surfaces[i] = *surface;
   }
   const Vec3d p0(x0.p), y(yFloat), n0(glm::normalize(x0.ng));
   Frame frame0{Vec3(n0)};

@@ -76,6 +76,17 @@ struct ManifoldConnection {
 std::optional<ManifoldConnection> connectThroughSpecularChain(const Scene& scene, const SurfaceInteraction& x0,
                                                               const Vec3& y, const ManifoldSettings& settings);
 
+// Newton's method from the chain `seeds` (x_1 … x_k, k ≤ MaxChain, points
+// of smooth dielectrics as the scene's rays met them), as above: MNEE seeds
+// it with the straight segment, specular manifold sampling with random
+// points of the glass.
+std::optional<ManifoldConnection> solveSpecularChain(const Scene& scene, const SurfaceInteraction& x0, const Vec3& y,
+                                                     const SurfaceInteraction* seeds, int k,
+                                                     const ManifoldSettings& settings);
+// Whether a chain vertex may lie at `si` (a smooth dielectric the solver can
+// differentiate: a sphere or a mesh, not instanced, no normal or bump map).
+bool isSpecularChainSurface(const Scene& scene, const SurfaceInteraction& si);
+
 // The chain's vertices a straight segment from x0 to y crosses (its seed):
 // false if a crossing is not a usable smooth refracting surface or there are
 // more than `maxChain` of them.

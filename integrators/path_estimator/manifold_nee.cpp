@@ -1,23 +1,98 @@
-// Manifold next-event estimation in the path tracer (Hanika, Droske &
-// Fascione 2015): at a non-delta vertex x_0, a light point y sampled by area
-// is connected through the smooth refracting surfaces the straight segment
-// x_0 → y crosses, by the solver of integrators/manifold/specular_chain.h.
+// Connections through glass in the path tracer: manifold next-event
+// estimation (mnee; Hanika, Droske & Fascione 2015) and specular manifold
+// sampling (sms; Zeltner, Georgiev & Jakob 2020). At a non-delta vertex x_0 a
+// light point y, sampled by area, is connected through smooth refracting
+// surfaces by the solver of integrators/manifold/specular_chain.h.
 //
-// Its estimate (the paper's Eq. 7 in our measure; specular_chain.h derives it)
+// The estimate of one chain (the paper's Eq. 7 in our measure;
+// specular_chain.h derives it)
 //     β f(ω_0) |cos θ_0^s| / |cos θ_0^g| · T · E_y · |dω_y/dA_0| / (P(light) p_A(y)),
 // with E_y = L_e(y → x_k) |cos θ_y| for an area light and the intensity
-// I(y → x_k) for a point or spot light, counts if x_k → y is unoccluded
-// (the shadow request). It is not weighted against another strategy: the
-// paths it finds — a non-delta vertex, then 1 … mnee_max_chain delta
-// refractions, then an area light — are its alone, and where BSDF sampling
-// reaches such a light it counts zero (shadeVertex's manifoldCovers; the
-// chain is counted by manifoldChainAfter). Infinite lights are left to
-// ordinary next-event estimation and BSDF sampling (a direction, not a
-// point, would be solved for).
+// I(y → x_k) for a point or spot light, counts if x_k → y is unoccluded.
+//  * mnee: the chain Newton's method reaches from the straight segment
+//    x_0 → y (1 … mnee_max_chain surfaces). Several solutions: one is found.
+//  * sms: unbiased (Zeltner et al. §4.2–4.3): Newton's method from a seed
+//    drawn uniformly by area on the scene's smooth dielectrics finds solution
+//    s with some probability p_s; its estimate is divided by p_s, which is
+//    estimated without bias by the number N of further seeds drawn until one
+//    reaches s again (geometric, E[N] = 1/p_s), at most sms_trials (a
+//    solution with p_s well below 1/sms_trials is undercounted: the
+//    truncation's bias). Over the seeds, Σ_s p_s · c_s / p_s: every solution
+//    a seed can reach, each once.
+//  * sms: biased (their §4.4): sms_trials seeds, the distinct solutions they
+//    reach each counted once (a solution no seed reached is lost).
+// sms solves chains of one surface (a water surface, one side of a glass).
+// Neither is weighted against another strategy: the paths they find (a
+// non-delta vertex, then 1 … max_chain delta refractions, then an area light)
+// are theirs alone, and where BSDF sampling reaches such a light it counts
+// zero (shadeVertex's manifoldCovers; manifoldChainAfter counts the chain).
+// Infinite lights are left to ordinary next-event estimation and BSDF
+// sampling (a direction, not a point, would be solved for).
+#include <algorithm>
 #include "core/bsdfs/dielectric.h"
+#include "integrators/manifold/reciprocal_probability.h"
 #include "integrators/path_estimator/path_estimator.h"
 
 namespace lb {
+namespace {
+
+// The estimate of one chain to the light point `e` (as above, without β),
+// and the shadow ray from its last vertex; black if it carries nothing.
+Color chainEstimate(const SurfaceInteraction& si, const BSDF& bsdf, const ManifoldConnection& chain,
+                    const Light& light, float pmf, const LightEmission& e, Ray* shadow) {
+  const SurfaceInteraction& last = chain.vertices[chain.k - 1];
+  Vec3 toLight = e.p - last.p;
+  float distance = glm::length(toLight);
+  Color emitted;
+  if (light.isDelta()) {
+    auto li = light.sampleLi(last.p, 0.5f, Vec2(0.5f));  // I / r² towards x_k
+    if (!li) return Color(0.f);
+    emitted = li->L * sqr(distance);
+  } else {
+    emitted = light.L(e.n, -toLight / distance) * absDot(e.n, toLight / distance);
+  }
+  Color f = bsdf.eval(si.wo, chain.wi, TransportMode::Radiance).f;
+  float cosGeometric = absDot(chain.wi, si.ng);
+  if (isBlack(f) || isBlack(emitted) || !(cosGeometric > 0)) return Color(0.f);
+  float cosRatio = absDot(chain.wi, bsdf.shadingNormal()) / cosGeometric;
+  *shadow = last.spawnRayTo(e.p, e.pError, e.n);
+  return f * cosRatio * chain.transmittance * emitted * float(chain.geometry) / (pmf * e.pdfPos);
+}
+
+// Whether two chains of one vertex are the same solution.
+bool sameSolution(const ManifoldConnection& a, const ManifoldConnection& b) {
+  return a.vertices[0].shapeId == b.vertices[0].shapeId &&
+         glm::length(a.vertices[0].p - b.vertices[0].p) < 1e-4f * (1 + glm::length(a.vertices[0].p));
+}
+
+}  // namespace
+
+void PathEstimator::prepareSmsCasters(const Scene& scene) {
+  std::vector<float> areas;
+  for (size_t i = 0; i < scene.shapes().size(); ++i) {
+    const Shape& shape = scene.shapes()[i];
+    if (shape.materialId < 0 || !shape.triangleMaterials.empty()) continue;
+    const auto* glass = dynamic_cast<const SmoothDielectric*>(&scene.material(shape.materialId));
+    if (!glass || glass->perturbsShading()) continue;
+    smsCasters_.push_back(int(i));
+    areas.push_back(shape.area());
+  }
+  if (!areas.empty()) smsCasterAreas_ = DiscreteDistribution(areas);
+}
+
+std::optional<ManifoldConnection> PathEstimator::smsTrial(const Scene& scene, const SurfaceInteraction& si,
+                                                          const Vec3& y, Pcg32& rng) const {
+  size_t caster = smsCasterAreas_.sample(rng.next1D());
+  float uPick = rng.next1D();
+  Vec2 u(rng.next1D(), rng.next1D());
+  ShapeSample seed = scene.shapes()[size_t(smsCasters_[caster])].sampleArea(uPick, u);
+  // The seed as a chain vertex: where the ray from x_0 towards it meets the
+  // glass (Newton's projections trace from x_0 too).
+  SurfaceInteraction hit;
+  if (!scene.intersect(si.spawnRay(glm::normalize(seed.p - si.p)), hit) || !isSpecularChainSurface(scene, hit))
+    return std::nullopt;
+  return solveSpecularChain(scene, si, y, &hit, 1, settings_.manifold);
+}
 
 bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf,
                                         const PathContext& c, uint32_t slot, ShadowRequest& out) const {
@@ -31,29 +106,59 @@ bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInterac
   // uDir.x < 1/2 keeps a two-sided light's front, whose L() is both sides').
   auto e = light->sampleLe(uPick, uPos, Vec2(0.25f, 0.5f));
   if (!e || !(e->pdfPos > 0)) return false;
-  auto chain = connectThroughSpecularChain(c.scene, si, e->p, settings_.manifold);
   // The chain's path has the vertex's segments, k more, and the one to the light.
-  if (!chain || s.vertex + 1 + chain->k + 1 > c.maxDepth) return false;
-  const SurfaceInteraction& last = chain->vertices[chain->k - 1];
-  Vec3 toLight = e->p - last.p;
-  float distance = glm::length(toLight);
-  Color emitted;
-  if (light->isDelta()) {
-    auto li = light->sampleLi(last.p, 0.5f, Vec2(0.5f));  // I / r² towards x_k
-    if (!li) return false;
-    emitted = li->L * sqr(distance);
-  } else {
-    emitted = light->L(e->n, -toLight / distance) * absDot(e->n, toLight / distance);
-  }
-  Color f = bsdf.eval(si.wo, chain->wi, TransportMode::Radiance).f;
-  float cosGeometric = absDot(chain->wi, si.ng);
-  if (isBlack(f) || isBlack(emitted) || !(cosGeometric > 0)) return false;
-  float cosRatio = absDot(chain->wi, bsdf.shadingNormal()) / cosGeometric;
-  Color contribution = f * cosRatio * chain->transmittance * emitted * float(chain->geometry) / (pmf * e->pdfPos);
-  out.ray = last.spawnRayTo(e->p, e->pError, e->n);
-  out.contribution = s.beta * contribution;
+  auto fits = [&](const ManifoldConnection& chain) { return s.vertex + 1 + chain.k + 1 <= c.maxDepth; };
   out.unweighted = 0;
-  out.segments = s.vertex + 1 + chain->k + 1;
+  out.tested = false;
+  if (settings_.mnee) {
+    auto chain = connectThroughSpecularChain(c.scene, si, e->p, settings_.manifold);
+    if (!chain || !fits(*chain)) return false;
+    Color estimate = chainEstimate(si, bsdf, *chain, *light, pmf, *e, &out.ray);
+    if (isBlack(estimate)) return false;
+    out.contribution = s.beta * estimate;
+    out.segments = s.vertex + 1 + chain->k + 1;
+    return true;
+  }
+  if (smsCasters_.empty()) return false;
+  // The seeds draw from a generator of their own, keyed by one sampler number:
+  // their count varies, the sampler's dimensions may not.
+  Pcg32 rng(hashValues(uint64_t(c.sampler.get1D() * 0x1p24f), slot), 0x5e3d5);
+  out.segments = s.vertex + 3;
+  if (settings_.sms == SmsMode::Unbiased) {
+    auto chain = smsTrial(c.scene, si, e->p, rng);
+    if (!chain || !fits(*chain)) return false;
+    Color estimate = chainEstimate(si, bsdf, *chain, *light, pmf, *e, &out.ray);
+    if (isBlack(estimate)) return false;
+    // Seeds until one reaches this solution again: E[n] = 1/p.
+    int n = trialsUntilSuccess(
+        [&] {
+          auto again = smsTrial(c.scene, si, e->p, rng);
+          return again && sameSolution(*again, *chain);
+        },
+        settings_.smsTrials);
+    out.contribution = s.beta * estimate * float(n);
+    return true;
+  }
+  // Biased: the distinct solutions of sms_trials seeds, each tested for
+  // visibility here and summed into one request.
+  constexpr int MaxSolutions = 8;
+  ManifoldConnection found[MaxSolutions];
+  int count = 0;
+  Color sum(0.f);
+  for (int trial = 0; trial < settings_.smsTrials; ++trial) {
+    auto chain = smsTrial(c.scene, si, e->p, rng);
+    if (!chain || !fits(*chain)) continue;
+    if (std::any_of(found, found + count, [&](const ManifoldConnection& f) { return sameSolution(f, *chain); }))
+      continue;
+    if (count == MaxSolutions) break;
+    found[count++] = *chain;
+    Ray shadow;
+    Color estimate = chainEstimate(si, bsdf, *chain, *light, pmf, *e, &shadow);
+    if (!isBlack(estimate) && !c.scene.occluded(shadow)) sum += estimate;
+  }
+  if (isBlack(sum)) return false;
+  out.contribution = s.beta * sum;
+  out.tested = true;
   return true;
 }
 

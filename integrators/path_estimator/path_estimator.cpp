@@ -103,6 +103,21 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                       Range::between(1, ManifoldConnection::MaxChain)});
       p.setCondition("");
     }
+    std::string sms = p.getChoice(
+        "sms", "off", {"off", "unbiased", "biased"},
+        "specular manifold sampling (Zeltner et al. 2020): like mnee through one refracting surface, Newton's method "
+        "started from random points of the glass; unbiased weighs each solution by a Bernoulli estimate of 1/p, "
+        "biased sums the distinct solutions of sms_trials starts");
+    s.sms = sms == "off" ? SmsMode::Off : sms == "unbiased" ? SmsMode::Unbiased : SmsMode::Biased;
+    if (s.sms != SmsMode::Off || p.describing()) {
+      p.setCondition("sms: unbiased or biased");
+      s.smsTrials = p.getInt("sms_trials", 64,
+                             {"unbiased: the most starts counted for 1/p (fewer bias solutions found with p < 1/this); "
+                              "biased: the starts whose distinct solutions are summed",
+                              Range::between(1, 100000)});
+      s.manifold.maxChain = 1;
+      p.setCondition("");
+    }
   }
   if (s.rrs != RrsMethod::Classic || p.describing()) {
     p.setCondition("rrs: adrrs or ears");
@@ -146,6 +161,11 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                        "sampling: bsdf");
   if (s.regularization.enabled && s.wavefront)
     p.fail("engine", "regularize: the single-ray engine prepares each pass's rough twins; use engine: single_ray");
+  if (s.mnee && s.sms != SmsMode::Off) p.fail("sms", "mnee and sms both connect through the glass; choose one");
+  if (s.sms != SmsMode::Off && !s.nee) p.fail("sms", "specular manifold sampling is a kind of next-event estimation; use nee: true");
+  if (s.sms != SmsMode::Off && s.wavefront) p.fail("engine", "sms: the single-ray engine solves each manifold connection; use engine: single_ray");
+  if (s.sms != SmsMode::Off && s.regularization.enabled)
+    p.fail("regularize", "sms and regularize both replace the paths through glass after a diffuse vertex; choose one");
   if (s.mnee && !s.nee) p.fail("mnee", "manifold next-event estimation is a kind of next-event estimation; use nee: true");
   if (s.mnee && s.wavefront) p.fail("engine", "mnee: the single-ray engine solves each manifold connection; use engine: single_ray");
   if (s.mnee && s.regularization.enabled)
@@ -169,6 +189,7 @@ void PathEstimator::preprocess(const Scene& scene, uint64_t seed) {
   if (settings_.lightSelection == LightChoice::Power) ownLights_ = LightSampler(scene.lights(), LightSelection::Power);
   if (settings_.lightSelection == LightChoice::Spatial)
     spatial_ = std::make_shared<SpatialLightSampler>(scene, hashValues(seed, 0x5ba71a1));
+  if (settings_.sms != SmsMode::Off) prepareSmsCasters(scene);
 }
 
 const Light* PathEstimator::chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const {
@@ -233,8 +254,10 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
     const Color afterEmission = L;
     for (int i = 0; i < n; ++i) {
-      ++rays;
-      if (c.scene.occluded(shadows[i].ray)) continue;
+      if (!shadows[i].tested) {
+        ++rays;
+        if (c.scene.occluded(shadows[i].ray)) continue;
+      }
       L += shadows[i].contribution;
       if (c.varianceAware) c.varianceAware->record(shadows[i].segments, MisTechnique::Light, shadows[i].unweighted);
     }
@@ -321,7 +344,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   bool canContinue = segments < c.maxDepth && si.material;
   // mnee: a light reached through 1 … max_chain refractions after a
   // non-delta vertex is that vertex's manifold connection's to count.
-  bool manifoldCovers = settings_.mnee && s.manifoldChain >= 1;
+  bool manifoldCovers = (settings_.mnee || settings_.sms != SmsMode::Off) && s.manifoldChain >= 1;
   if (si.emitter && countEmission && !manifoldCovers) {
     Color Le = si.emitter->L(si.ng, si.wo);
     recordEmission(s.beta * Le);
@@ -395,7 +418,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   }
   // Manifold next-event estimation: one more light sample, connected
   // through the glass its straight segment crosses (manifold_nee.cpp).
-  if (settings_.mnee && !delta && !c.scene.lightSampler().empty())
+  if ((settings_.mnee || settings_.sms != SmsMode::Off) && !delta && !c.scene.lightSampler().empty())
     if (manifoldLightSample(s, si, bsdf, c, base + settings_.manifoldSlot(), shadows[n])) ++n;
   s.prevLightChosen = lightChosen;
   s.prevBsdfCount = bsdfCount;
@@ -454,7 +477,8 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   }
   if (isBlack(next.beta)) return false;
   if (!bsdf.isDelta()) next.pastNonDelta = true;
-  if (settings_.mnee) next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted);
+  if (settings_.mnee || settings_.sms != SmsMode::Off)
+    next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted);
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
   if (!roulette) return true;

@@ -21,6 +21,7 @@
 //   rrs_warmup, rrs_cells, rrs_min_samples  adrrs | ears: the passes before learned factors, the cache's grid
 //   regularize, regularize_roughness, regularize_exponent  path-space regularization (regularization.h)
 //   mnee, mnee_max_chain                 manifold next-event estimation (manifold_nee.cpp)
+//   sms, sms_trials                      specular manifold sampling (manifold_nee.cpp)
 // (these are the `path` integrator's keys, read by PathTracerSettings::read)
 //
 // With nee on and mis none, emitters hit after a non-delta bounce are ignored
@@ -64,7 +65,8 @@
 //     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
 //     6 + 4N        (rrs: adrrs | ears only) the key of the split's other
 //                   continuations, which draw from samplers of their own
-//     then, with mnee, 4 more: its light, pick, and 2-D point
+//     then, with mnee, 4 more: its light, pick, and 2-D point; with sms, 5:
+//                   those and the key of its seeds' own random numbers
 // At the first vertex, slots 0, 1 and the shadow rays are branch 0's; each
 // branch b draws its own lobe, direction and roulette. So a low-discrepancy
 // sampler gives every vertex the same dimensions on every path. Draws go
@@ -76,6 +78,7 @@
 #include "core/params.h"
 #include "core/spatial_light_sampler.h"
 #include "core/scene.h"
+#include "core/rng.h"
 #include "core/sampler.h"
 #include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
@@ -88,6 +91,7 @@
 namespace lb {
 
 enum class MisHeuristic { None, Balance, Power, OneSample, VarianceAware };
+enum class SmsMode { Off, Unbiased, Biased };
 enum class LightChoice { Scene, Uniform, Power, Spatial };
 
 struct PathTracerSettings {
@@ -109,7 +113,9 @@ struct PathTracerSettings {
   int rrsCells = 8;              // … the cache's cells along the scene's longest side
   int rrsMinSamples = 64;        // … continuations a cache bin needs before it is used
   bool mnee = false;             // manifold next-event estimation (manifold_nee.cpp)
-  ManifoldSettings manifold;     // mnee: the solver's settings (mnee_max_chain)
+  SmsMode sms = SmsMode::Off;    // specular manifold sampling (manifold_nee.cpp)
+  int smsTrials = 64;            // sms: at most this many seeds per estimate of 1/p (unbiased), or exactly (biased)
+  ManifoldSettings manifold;     // mnee, sms: the solver's settings (mnee_max_chain; 1 for sms)
   PathLength length;
 
   // Without `directionKeys`, the keys that change how directions are drawn
@@ -118,7 +124,7 @@ struct PathTracerSettings {
   static PathTracerSettings read(Params& p, bool directionKeys = true);
   // Dimensions one vertex of one branch takes (S above), and where its
   // direction sampling (lobe, direction, roulette) begins.
-  uint32_t vertexStride() const { return manifoldSlot() + (mnee ? 4 : 0); }
+  uint32_t vertexStride() const { return manifoldSlot() + (mnee ? 4 : sms != SmsMode::Off ? 5 : 0); }
   uint32_t manifoldSlot() const { return (rrs == RrsMethod::Classic ? 6 : 7) + 4 * uint32_t(shadowRays); }
   uint32_t scatterSlot() const { return 2 + 4 * uint32_t(shadowRays); }
 };
@@ -175,6 +181,7 @@ struct ShadowRequest {
   Color contribution;
   float unweighted = 0;  // mis: variance_aware pilots: the luminance of the sample's estimate before MIS
   int segments = 0;      // … and its path length
+  bool tested = false;   // sms: biased: `contribution` is already the visible solutions' sum; trace nothing
 };
 
 // Watches a path vertex by vertex, for a caller that learns from it (the
@@ -289,11 +296,17 @@ class PathEstimator {
   bool manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
                            uint32_t slot, ShadowRequest& out) const;
   int manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted) const;
+  void prepareSmsCasters(const Scene& scene);
+  // sms: a chain from a random seed on the casters; the solver's settings.
+  std::optional<ManifoldConnection> smsTrial(const Scene& scene, const SurfaceInteraction& si, const Vec3& y,
+                                             Pcg32& rng) const;
   const Light* chooseLight(const Scene& scene, const Vec3& p, float u, float* pmf) const;
   float lightPmf(const Scene& scene, const Vec3& p, const Light* light) const;
 
   PathTracerSettings settings_;
   LightSampler ownLights_;                                     // light_selection uniform | power
+  std::vector<int> smsCasters_;                                // sms: the shapes seeds are drawn on …
+  DiscreteDistribution smsCasterAreas_;                        // … by area
   std::shared_ptr<const SpatialLightSampler> spatial_;         // light_selection spatial
 };
 
