@@ -21,7 +21,8 @@
 //    a seed can reach, each once.
 //  * sms: biased (their §4.4): sms_trials seeds, the distinct solutions they
 //    reach each counted once (a solution no seed reached is lost).
-// sms solves chains of one surface (a water surface, one side of a glass).
+// sms seeds chains of one or two surfaces (a water surface; into and out of
+// a sphere): the seed's ray from x_0, refracted on while it meets glass.
 // Neither is weighted against another strategy: the paths they find (a
 // non-delta vertex, then 1 … max_chain delta refractions, then an area light)
 // are theirs alone, and where BSDF sampling reaches such a light it counts
@@ -30,6 +31,7 @@
 // sampling (a direction, not a point, would be solved for).
 #include <algorithm>
 #include "core/bsdfs/dielectric.h"
+#include "core/bsdfs/fresnel.h"
 #include "integrators/manifold/reciprocal_probability.h"
 #include "integrators/path_estimator/path_estimator.h"
 
@@ -59,10 +61,14 @@ Color chainEstimate(const SurfaceInteraction& si, const BSDF& bsdf, const Manifo
   return f * cosRatio * chain.transmittance * emitted * float(chain.geometry) / (pmf * e.pdfPos);
 }
 
-// Whether two chains of one vertex are the same solution.
+// Whether two chains are the same solution.
 bool sameSolution(const ManifoldConnection& a, const ManifoldConnection& b) {
-  return a.vertices[0].shapeId == b.vertices[0].shapeId &&
-         glm::length(a.vertices[0].p - b.vertices[0].p) < 1e-4f * (1 + glm::length(a.vertices[0].p));
+  if (a.k != b.k) return false;
+  for (int i = 0; i < a.k; ++i)
+    if (a.vertices[i].shapeId != b.vertices[i].shapeId ||
+        !(glm::length(a.vertices[i].p - b.vertices[i].p) < 1e-4f * (1 + glm::length(a.vertices[i].p))))
+      return false;
+  return true;
 }
 
 }  // namespace
@@ -87,11 +93,22 @@ std::optional<ManifoldConnection> PathEstimator::smsTrial(const Scene& scene, co
   Vec2 u(rng.next1D(), rng.next1D());
   ShapeSample seed = scene.shapes()[size_t(smsCasters_[caster])].sampleArea(uPick, u);
   // The seed as a chain vertex: where the ray from x_0 towards it meets the
-  // glass (Newton's projections trace from x_0 too).
-  SurfaceInteraction hit;
-  if (!scene.intersect(si.spawnRay(glm::normalize(seed.p - si.p)), hit) || !isSpecularChainSurface(scene, hit))
+  // glass (Newton's projections trace from x_0 too); then the chain the ray
+  // goes on to, refracted at each vertex, while it meets glass and the chain
+  // has room (Zeltner et al. §5: the seed path; two vertices through a sphere).
+  SurfaceInteraction hits[ManifoldConnection::MaxChain];
+  if (!scene.intersect(si.spawnRay(glm::normalize(seed.p - si.p)), hits[0]) || !isSpecularChainSurface(scene, hits[0]))
     return std::nullopt;
-  return solveSpecularChain(scene, si, y, &hit, 1, settings_.manifold);
+  int k = 1;
+  while (k < settings_.manifold.maxChain) {
+    const SurfaceInteraction& v = hits[k - 1];
+    Vec3 wt;
+    float etap;
+    if (!refract(v.wo, v.shading.n, static_cast<const SmoothDielectric*>(v.material)->eta(), &etap, &wt)) break;
+    if (!scene.intersect(v.spawnRay(wt), hits[k]) || !isSpecularChainSurface(scene, hits[k])) break;
+    ++k;
+  }
+  return solveSpecularChain(scene, si, y, hits, k, settings_.manifold);
 }
 
 bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf,
@@ -123,7 +140,6 @@ bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInterac
   // The seeds draw from a generator of their own, keyed by one sampler number:
   // their count varies, the sampler's dimensions may not.
   Pcg32 rng(hashValues(uint64_t(c.sampler.get1D() * 0x1p24f), slot), 0x5e3d5);
-  out.segments = s.vertex + 3;
   if (settings_.sms == SmsMode::Unbiased) {
     auto chain = smsTrial(c.scene, si, e->p, rng);
     if (!chain || !fits(*chain)) return false;
@@ -137,6 +153,7 @@ bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInterac
         },
         settings_.smsTrials);
     out.contribution = s.beta * estimate * float(n);
+    out.segments = s.vertex + 1 + chain->k + 1;
     return true;
   }
   // Biased: the distinct solutions of sms_trials seeds, each tested for
@@ -158,6 +175,7 @@ bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInterac
   }
   if (isBlack(sum)) return false;
   out.contribution = s.beta * sum;
+  out.segments = s.vertex + 1 + found[0].k + 1;
   out.tested = true;
   return true;
 }

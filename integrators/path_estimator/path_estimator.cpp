@@ -105,7 +105,7 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
     }
     std::string sms = p.getChoice(
         "sms", "off", {"off", "unbiased", "biased"},
-        "specular manifold sampling (Zeltner et al. 2020): like mnee through one refracting surface, Newton's method "
+        "specular manifold sampling (Zeltner et al. 2020): like mnee through one or two refracting surfaces, Newton's method "
         "started from random points of the glass; unbiased weighs each solution by a Bernoulli estimate of 1/p, "
         "biased sums the distinct solutions of sms_trials starts");
     s.sms = sms == "off" ? SmsMode::Off : sms == "unbiased" ? SmsMode::Unbiased : SmsMode::Biased;
@@ -115,7 +115,7 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                              {"unbiased: the most starts counted for 1/p (fewer bias solutions found with p < 1/this); "
                               "biased: the starts whose distinct solutions are summed",
                               Range::between(1, 100000)});
-      s.manifold.maxChain = 1;
+      s.manifold.maxChain = ManifoldConnection::MaxChain;
       p.setCondition("");
     }
   }
@@ -167,6 +167,10 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
   if (s.sms != SmsMode::Off && s.regularization.enabled)
     p.fail("regularize", "sms and regularize both replace the paths through glass after a diffuse vertex; choose one");
   if (s.mnee && !s.nee) p.fail("mnee", "manifold next-event estimation is a kind of next-event estimation; use nee: true");
+  // variance_aware's pilots learn light against BSDF sampling; a manifold
+  // connection is neither, and would count in its moments as a light sample.
+  if ((s.mnee || s.sms != SmsMode::Off) && s.mis == MisHeuristic::VarianceAware)
+    p.fail("mis", "mnee and sms run with power, balance, none or one_sample");
   if (s.mnee && s.wavefront) p.fail("engine", "mnee: the single-ray engine solves each manifold connection; use engine: single_ray");
   if (s.mnee && s.regularization.enabled)
     p.fail("regularize", "mnee and regularize both replace the paths through glass after a diffuse vertex; choose one");
