@@ -28,6 +28,7 @@ class SmoothConductor final : public Material {
   float pdf(const Vec3&, const Vec3&) const override { return 0; }
   uint32_t flags() const override { return BSDFReflection | BSDFSpecular; }
   std::unique_ptr<Material> mollified(float alpha) const override;
+  const ConductorFresnel& fresnel() const { return fresnel_; }  // (specular manifold sampling reads it)
 
  private:
   ConductorFresnel fresnel_;

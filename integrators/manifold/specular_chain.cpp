@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "core/bsdfs/conductor.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/fresnel.h"
 
@@ -24,6 +25,8 @@ struct LocalSurface {
   bool smooth = false;
   Vec3d ng{0.0};                    // … or its winding's normal
   double eta = 1;                   // interior over exterior
+  bool mirror = false;              // a smooth conductor: reflects (its Fresnel below)
+  ConductorFresnel fresnel;
   Vec3d p{0.0}, e1{0.0}, e2{0.0};
 
   Vec3d at(double u, double v) const {
@@ -70,13 +73,16 @@ struct LocalSurface {
 
 std::optional<LocalSurface> localSurface(const Scene& scene, const SurfaceInteraction& si) {
   const auto* glass = dynamic_cast<const SmoothDielectric*>(si.material);
+  const auto* mirror = dynamic_cast<const SmoothConductor*>(si.material);
   // Instanced shapes are stored in their object's space; normal and bump
   // maps move the shading normal off the interpolation differentiated here.
-  if (!glass || glass->perturbsShading() || si.shapeId < 0 || size_t(si.shapeId) >= scene.shapes().size())
+  if ((!glass && !mirror) || si.material->perturbsShading() || si.shapeId < 0 ||
+      size_t(si.shapeId) >= scene.shapes().size())
     return std::nullopt;
   const Shape& shape = scene.shapes()[size_t(si.shapeId)];
   LocalSurface s;
-  s.eta = glass->eta();
+  if (glass) s.eta = glass->eta();
+  if (mirror) s.mirror = true, s.fresnel = mirror->fresnel();
   s.p = Vec3d(si.p);
   if (shape.isSphere()) {
     s.sphere = true;
@@ -111,6 +117,7 @@ struct Chain {
 // constraint); false where the half vector vanishes.
 bool halfVectorConstraint(const LocalSurface& s, const Vec3d& prev, const Vec3d& q, const Vec3d& next, double* c) {
   Vec3d wi = glm::normalize(prev - q), wo = glm::normalize(next - q), n = s.normal(q);
+  // A mirror's constraint is the ordinary half vector (η = 1 on both sides).
   double etaI = glm::dot(wi, n) > 0 ? 1 : s.eta, etaO = glm::dot(wo, n) > 0 ? 1 : s.eta;
   Vec3d h = etaI * wi + etaO * wo;
   double length = glm::length(h);
@@ -211,7 +218,9 @@ bool seedSpecularChain(const Scene& scene, const SurfaceInteraction& x0, const V
     ray.tMax = distance * (1 - ShadowEpsilon);
     SurfaceInteraction hit;
     if (!scene.intersect(ray, hit)) return true;
-    if (*k == maxChain || !localSurface(scene, hit)) return false;
+    // A straight segment can only cross refracting surfaces: a mirror on it blocks it.
+    auto surface = localSurface(scene, hit);
+    if (*k == maxChain || !surface || surface->mirror) return false;
     seeds[(*k)++] = hit;
     from = &seeds[*k - 1];
   }
@@ -286,17 +295,24 @@ std::optional<ManifoldConnection> solveSpecularChain(const Scene& scene, const S
   }
   if (!converged) return std::nullopt;
 
-  // Every vertex refracts: its neighbours on opposite sides of both normals.
+  // Every glass vertex refracts (its neighbours on opposite sides of both
+  // normals), every mirror reflects (on one side of both).
   Vec3d x[MaxChain];
   for (int i = 0; i < ch.k; ++i) x[i] = ch.surfaces[i].p;
-  result.transmittance = 1;
+  result.throughput = Color(1.f);
   for (int i = 0; i < ch.k; ++i) {
+    const LocalSurface& surface = ch.surfaces[i];
     const Vec3d& prev = i == 0 ? p0 : x[i - 1];
     const Vec3d& next = i == ch.k - 1 ? y : x[i + 1];
     Vec3d wi = glm::normalize(prev - x[i]), wo = glm::normalize(next - x[i]);
-    Vec3d n = ch.surfaces[i].normal(x[i]), ng = ch.surfaces[i].geometricNormal(x[i]);
-    if (glm::dot(wi, n) * glm::dot(wo, n) >= 0 || glm::dot(wi, ng) * glm::dot(wo, ng) >= 0) return std::nullopt;
-    result.transmittance *= 1 - fresnelDielectric(float(glm::dot(wi, n)), float(ch.surfaces[i].eta));
+    Vec3d n = surface.normal(x[i]), ng = surface.geometricNormal(x[i]);
+    double side = surface.mirror ? 1 : -1;  // the sign dot(wi, ·) dot(wo, ·) must have
+    if (!(side * glm::dot(wi, n) * glm::dot(wo, n) > 0) || !(side * glm::dot(wi, ng) * glm::dot(wo, ng) > 0))
+      return std::nullopt;
+    if (surface.mirror)
+      result.throughput *= surface.fresnel(float(std::abs(glm::dot(wi, n))));
+    else
+      result.throughput *= 1 - fresnelDielectric(float(glm::dot(wi, n)), float(surface.eta));
   }
   if (!derivatives(ch, p0, t0, y, &A, &B)) return std::nullopt;
   glm::dmat4 D = -(glm::inverse(A) * B);  // ∂x/∂x_0: rows 2j, 2j + 1 are x_j's

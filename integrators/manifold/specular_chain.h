@@ -7,14 +7,17 @@
 // same solver from other points.
 //
 // The chain. x_0 is a point on a non-delta surface, y a point on a light;
-// x_1 … x_k (k ≤ MaxChain) lie on smooth dielectric surfaces (SmoothDielectric)
-// and every x_i refracts: light from y reaches x_0 through them.
+// x_1 … x_k (k ≤ MaxChain) lie on smooth dielectric surfaces (SmoothDielectric),
+// where they refract, or on smooth mirrors (SmoothConductor), where they
+// reflect: light from y reaches x_0 through them. (MNEE's straight seed
+// crosses only refracting surfaces; SMS's seeds reach mirrors too.)
 //
 // The constraint (Hanika et al. §4.1; Jakob & Marschner Eq. 9). At x_i, with
 // ω_i = (x_{i−1} − x_i)/|·|, ω_o = (x_{i+1} − x_i)/|·| and η_i, η_o the indices
 // of refraction on their sides, the generalised half vector
 //     h_i = (η_i ω_i + η_o ω_o) / |·|
-// is parallel to the shading normal n_i exactly where Snell's law holds, so
+// is parallel to the shading normal n_i exactly where Snell's law holds
+// (at a mirror, η_i = η_o = 1: the law of reflection), so
 //     c_i = (h_i · s_i, h_i · t_i) = 0,   (s_i, t_i) a tangent frame of n_i.
 //
 // Newton's method. Seeded by the straight segment x_0 → y (its crossings of
@@ -38,7 +41,7 @@
 // orthonormal). Without a chain it is |cos θ_0| / |x_0 − y|². The estimate at
 // x_0 of light sampled at y with area density p_A(y) is then
 //     f(ω_0) |cos θ_0| · T · L_e(y, −ω_y) |cos θ_y| · |dω_y/dA_0| / (|cos θ_0| p_A(y)),
-// T the product of the Fresnel transmittances. Radiance's 1/η² scaling is
+// T the product of the Fresnel transmittances (reflectances at mirrors). Radiance's 1/η² scaling is
 // inside |dω_y/dA_0| (conservation of étendue, n² cos θ dA dω), not a factor of
 // its own. For a point light, L_e |cos θ_y| becomes the intensity I(ω_y).
 //
@@ -63,7 +66,7 @@ struct ManifoldConnection {
   SurfaceInteraction vertices[MaxChain];  // as the scene's rays found them
   Vec3 wi{0.f};                           // unit direction from x_0 towards x_1
   double geometry = 0;                    // |dω_y/dA_0|
-  float transmittance = 1;                // Π (1 − F(θ_i)), Fresnel at each x_i
+  Color throughput{1.f};                  // Π of 1 − F(θ_i) at glass, F(θ_i) at a mirror (Fresnel)
   int iterations = 0;                     // Newton steps taken
 };
 
@@ -83,8 +86,9 @@ std::optional<ManifoldConnection> connectThroughSpecularChain(const Scene& scene
 std::optional<ManifoldConnection> solveSpecularChain(const Scene& scene, const SurfaceInteraction& x0, const Vec3& y,
                                                      const SurfaceInteraction* seeds, int k,
                                                      const ManifoldSettings& settings);
-// Whether a chain vertex may lie at `si` (a smooth dielectric the solver can
-// differentiate: a sphere or a mesh, not instanced, no normal or bump map).
+// Whether a chain vertex may lie at `si` (a smooth dielectric or mirror the
+// solver can differentiate: a sphere or a mesh, not instanced, no normal or
+// bump map).
 bool isSpecularChainSurface(const Scene& scene, const SurfaceInteraction& si);
 
 // The chain's vertices a straight segment from x0 to y crosses (its seed):

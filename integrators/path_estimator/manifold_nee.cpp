@@ -22,14 +22,17 @@
 //  * sms: biased (their §4.4): sms_trials seeds, the distinct solutions they
 //    reach each counted once (a solution no seed reached is lost).
 // sms seeds chains of one or two surfaces (a water surface; into and out of
-// a sphere): the seed's ray from x_0, refracted on while it meets glass.
+// a sphere; a mirror): the seed's ray from x_0, refracted or reflected on
+// while it meets glass or mirrors.
 // Neither is weighted against another strategy: the paths they find (a
-// non-delta vertex, then 1 … max_chain delta refractions, then an area light)
+// non-delta vertex, then 1 … max_chain delta refractions — or, for sms,
+// mirror reflections — then an area light)
 // are theirs alone, and where BSDF sampling reaches such a light it counts
 // zero (shadeVertex's manifoldCovers; manifoldChainAfter counts the chain).
 // Infinite lights are left to ordinary next-event estimation and BSDF
 // sampling (a direction, not a point, would be solved for).
 #include <algorithm>
+#include "core/bsdfs/conductor.h"
 #include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/fresnel.h"
 #include "integrators/manifold/reciprocal_probability.h"
@@ -58,7 +61,7 @@ Color chainEstimate(const SurfaceInteraction& si, const BSDF& bsdf, const Manifo
   if (isBlack(f) || isBlack(emitted) || !(cosGeometric > 0)) return Color(0.f);
   float cosRatio = absDot(chain.wi, bsdf.shadingNormal()) / cosGeometric;
   *shadow = last.spawnRayTo(e.p, e.pError, e.n);
-  return f * cosRatio * chain.transmittance * emitted * float(chain.geometry) / (pmf * e.pdfPos);
+  return f * cosRatio * chain.throughput * emitted * float(chain.geometry) / (pmf * e.pdfPos);
 }
 
 // Whether two chains are the same solution.
@@ -78,8 +81,9 @@ void PathEstimator::prepareSmsCasters(const Scene& scene) {
   for (size_t i = 0; i < scene.shapes().size(); ++i) {
     const Shape& shape = scene.shapes()[i];
     if (shape.materialId < 0 || !shape.triangleMaterials.empty()) continue;
-    const auto* glass = dynamic_cast<const SmoothDielectric*>(&scene.material(shape.materialId));
-    if (!glass || glass->perturbsShading()) continue;
+    const Material& material = scene.material(shape.materialId);
+    bool specular = dynamic_cast<const SmoothDielectric*>(&material) || dynamic_cast<const SmoothConductor*>(&material);
+    if (!specular || material.perturbsShading()) continue;
     smsCasters_.push_back(int(i));
     areas.push_back(shape.area());
   }
@@ -93,19 +97,24 @@ std::optional<ManifoldConnection> PathEstimator::smsTrial(const Scene& scene, co
   Vec2 u(rng.next1D(), rng.next1D());
   ShapeSample seed = scene.shapes()[size_t(smsCasters_[caster])].sampleArea(uPick, u);
   // The seed as a chain vertex: where the ray from x_0 towards it meets the
-  // glass (Newton's projections trace from x_0 too); then the chain the ray
-  // goes on to, refracted at each vertex, while it meets glass and the chain
-  // has room (Zeltner et al. §5: the seed path; two vertices through a sphere).
+  // glass or mirror (Newton's projections trace from x_0 too); then the
+  // chain the ray goes on to, refracted or reflected at each vertex, while it
+  // meets glass or mirrors and the chain has room (Zeltner et al. §5: the
+  // seed path; two vertices through a sphere).
   SurfaceInteraction hits[ManifoldConnection::MaxChain];
   if (!scene.intersect(si.spawnRay(glm::normalize(seed.p - si.p)), hits[0]) || !isSpecularChainSurface(scene, hits[0]))
     return std::nullopt;
   int k = 1;
   while (k < settings_.manifold.maxChain) {
     const SurfaceInteraction& v = hits[k - 1];
-    Vec3 wt;
+    Vec3 next;
     float etap;
-    if (!refract(v.wo, v.shading.n, static_cast<const SmoothDielectric*>(v.material)->eta(), &etap, &wt)) break;
-    if (!scene.intersect(v.spawnRay(wt), hits[k]) || !isSpecularChainSurface(scene, hits[k])) break;
+    if (const auto* glass = dynamic_cast<const SmoothDielectric*>(v.material)) {
+      if (!refract(v.wo, v.shading.n, glass->eta(), &etap, &next)) break;
+    } else {
+      next = reflect(v.wo, v.shading.n);
+    }
+    if (!scene.intersect(v.spawnRay(next), hits[k]) || !isSpecularChainSurface(scene, hits[k])) break;
     ++k;
   }
   return solveSpecularChain(scene, si, y, hits, k, settings_.manifold);
@@ -182,11 +191,14 @@ bool PathEstimator::manifoldLightSample(const PathState& s, const SurfaceInterac
 
 // After scattering at a vertex with `bsdf`: 0 from a non-delta vertex (where
 // a manifold connection was made), one more after a refraction through smooth
-// glass, else −1 (the light that path reaches is not a manifold connection's).
-int PathEstimator::manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted) const {
+// glass or (sms) a reflection off a smooth mirror, else −1 (the light that
+// path reaches is not a manifold connection's).
+int PathEstimator::manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted, bool reflected) const {
   if (!bsdf.isDelta()) return 0;
   bool glass = refracted && dynamic_cast<const SmoothDielectric*>(&bsdf.material()) != nullptr;
-  return glass && chain >= 0 && chain < settings_.manifold.maxChain ? chain + 1 : -1;
+  bool mirror = reflected && settings_.sms != SmsMode::Off &&
+                dynamic_cast<const SmoothConductor*>(&bsdf.material()) != nullptr;
+  return (glass || mirror) && chain >= 0 && chain < settings_.manifold.maxChain ? chain + 1 : -1;
 }
 
 }  // namespace lb

@@ -105,8 +105,8 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
     }
     std::string sms = p.getChoice(
         "sms", "off", {"off", "unbiased", "biased"},
-        "specular manifold sampling (Zeltner et al. 2020): like mnee through one or two refracting surfaces, Newton's method "
-        "started from random points of the glass; unbiased weighs each solution by a Bernoulli estimate of 1/p, "
+        "specular manifold sampling (Zeltner et al. 2020): like mnee through one or two refracting or mirror surfaces, Newton's method "
+        "started from random points of the glass or mirrors; unbiased weighs each solution by a Bernoulli estimate of 1/p, "
         "biased sums the distinct solutions of sms_trials starts");
     s.sms = sms == "off" ? SmsMode::Off : sms == "unbiased" ? SmsMode::Unbiased : SmsMode::Biased;
     if (s.sms != SmsMode::Off || p.describing()) {
@@ -437,7 +437,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   float uLobe = sampler.get1D();
   Vec2 uDir = sampler.get2D();
   Vec3 wi;
-  bool refracted = false;  // through a delta transmission lobe
+  bool refracted = false, reflected = false;  // by a delta transmission or reflection lobe
   // A direction drawn by some other density than the BSDF's own sampling:
   // f·|cos θ| / pdf, with f evaluated for it (or known).
   auto takeDirection = [&](const Vec3& d, float pdf, const Color* knownF = nullptr) {
@@ -475,6 +475,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
     next.beta *= bs->weight;
     if (bs->lobe & BSDFTransmission) next.etaScale *= sqr(bs->eta);
     refracted = bs->isDelta() && (bs->lobe & BSDFTransmission);
+    reflected = bs->isDelta() && (bs->lobe & BSDFReflection);
     wi = bs->wi;
     next.prevPdf = bs->pdf;
     next.prevDelta = bs->isDelta();
@@ -482,7 +483,7 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
   if (isBlack(next.beta)) return false;
   if (!bsdf.isDelta()) next.pastNonDelta = true;
   if (settings_.mnee || settings_.sms != SmsMode::Off)
-    next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted);
+    next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted, reflected);
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
   if (!roulette) return true;

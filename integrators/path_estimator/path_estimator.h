@@ -295,7 +295,7 @@ class PathEstimator {
   // request (false if there is none), and the chain count after scattering.
   bool manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
                            uint32_t slot, ShadowRequest& out) const;
-  int manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted) const;
+  int manifoldChainAfter(int chain, const BSDF& bsdf, bool refracted, bool reflected) const;
   void prepareSmsCasters(const Scene& scene);
   // sms: a chain from a random seed on the casters; the solver's settings.
   std::optional<ManifoldConnection> smsTrial(const Scene& scene, const SurfaceInteraction& si, const Vec3& y,

@@ -13,7 +13,7 @@
 //    paths to the light, MNEE is darker: the bias of the solutions its seed
 //    does not lead to;
 //  * specular manifold sampling (`sms: unbiased`) agrees with BDPT under the
-//    flat water too (its seeds all reach the one solution: 1/p = 1);
+//    flat water and the slab too, and through a flat mirror;
 //  * the same seed gives the same image with one thread or two;
 //  * refusals.
 // Seen failing with the contribution times 1.05 (the comparison's own check
@@ -113,6 +113,31 @@ TEST(Mnee, UnderAGlassSphereItLosesTheOtherSolutions) {
   std::string failures = compareSeedMeans(c, b, Alpha, 3);
   EXPECT_TRUE(failures.empty()) << "sms:" << failures;
   std::printf("caustic: SMS %.4f\n", c.regions.mean[1]);
+}
+
+// Specular manifold sampling through a mirror: a floor lit by a point light
+// directly and by its image in a flat mirror (one solution), which plain
+// path tracing cannot reach (the light cannot be hit) and BDPT renders by
+// connecting light subpaths to the camera.
+TEST(Mnee, SmsThroughAMirrorRendersBdptsMeans) {
+  const int Seeds = 8, Regions = 3;
+  SceneFile scene = loadSceneFromString(
+      "camera: {position: [0, 2.5, 3], look_at: [0, 0, -0.3], fov: 45}\n"
+      "film: {width: 64, height: 48}\n"
+      "materials: {floor: {type: diffuse, albedo: 0.8}, mirror: {type: conductor}}\n"
+      "shapes:\n"
+      "  - {type: rectangle, material: floor, transform: {scale: 3, rotate_x: -90}}\n"
+      "  - {type: rectangle, material: mirror, transform: {scale: 1, translate: [0, 0.5, -1]}}\n"
+      "lights: [{type: point, position: [0.5, 1.5, 0.5], intensity: 4}]\n",
+      "mirror.yaml");
+  std::vector<bool> floor = diffusePrimaryHits(*scene.scene);
+  ASSERT_GT(countTrue(floor), 1500u);
+  SeedMeans sms = maskedSeedMeans(scene, {"path", "{sms: unbiased, sms_trials: 1000}", 32, 11}, Seeds, Regions, floor);
+  SeedMeans bdpt = maskedSeedMeans(scene, {"bdpt", "{}", 64, 91}, Seeds, Regions, floor);
+  const int comparisons = Regions * Regions * 3;
+  std::string failures = compareSeedMeans(sms, bdpt, Alpha, comparisons);
+  EXPECT_TRUE(failures.empty()) << failures;
+  EXPECT_FALSE(compareSeedMeans(scaled(sms, 1.05), bdpt, Alpha, comparisons).empty());
 }
 
 TEST(Mnee, SameImageWithOneThreadOrTwo) {
