@@ -79,19 +79,7 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
       "between passes");
   s.rrs = rrs == "classic" ? RrsMethod::Classic : rrs == "adrrs" ? RrsMethod::Adrrs : RrsMethod::Ears;
   if (directionKeys) {
-    s.regularization.enabled = p.getBool(
-        "regularize", false,
-        "path-space regularization (Kaplanyan & Dachsbacher 2013): a delta vertex after a non-delta one scatters "
-        "by a GGX twin whose roughness shrinks pass by pass; consistent, not unbiased");
-    if (s.regularization.enabled || p.describing()) {
-      p.setCondition("regularize: true");
-      s.regularization.initialRoughness =
-          p.getFloat("regularize_roughness", 0.1f, {"α_0, the twins' GGX roughness in the first pass", Range::open(0, 1)});
-      s.regularization.exponent = p.getFloat(
-          "regularize_exponent", 1.f / 6.f,
-          {"λ: pass k's roughness is α_0 (k + 1)^-λ; consistent for 0 < λ < 1/2, fixed at 0", Range{0.0, 0.5, false, true}});
-      p.setCondition("");
-    }
+    s.regularization = RegularizationSettings::read(p);
     s.mnee = p.getBool("mnee", false,
                        "manifold next-event estimation (Hanika et al. 2015): light samples behind smooth glass or "
                        "water connect through it by Newton's method; biased where a chain has several solutions");

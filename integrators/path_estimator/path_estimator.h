@@ -82,7 +82,7 @@
 #include "core/sampler.h"
 #include "integrators/path_estimator/direction_guide.h"
 #include "integrators/path_estimator/hemisphere.h"
-#include "integrators/path_estimator/regularization.h"
+#include "core/bsdfs/regularization.h"
 #include "integrators/path_estimator/roulette_splitting.h"
 #include "integrators/path_estimator/variance_aware_mis.h"
 #include "integrators/manifold/specular_chain.h"

@@ -135,7 +135,7 @@ const ConsistentMethod BpmMethod{"vcm",
                                  64, Stratified};
 
 // The path tracer with path-space regularization (regularize: true,
-// integrators/path_estimator/regularization.h) at a fixed roughness
+// core/bsdfs/regularization.h) at a fixed roughness
 // α = 0.2 p (regularize_exponent 0): the delta vertices after the floor (the
 // sphere's two surfaces on the way to the light) scatter by GGX glass of
 // roughness α, so the caustic is the one a slightly rough sphere casts.

@@ -1,22 +1,33 @@
 #pragma once
 // Path-space regularization (Kaplanyan & Dachsbacher 2013, "Path Space
 // Regularization for Holistic and Robust Light Transport"), for the path
-// tracer (`path` with `regularize: true`).
+// tracer (`path`) and BDPT (`bdpt`), both with `regularize: true`.
 //
 // A path tracer cannot complete a path whose light reaches a diffuse vertex
 // only through a specular one (L S D … E: the floor of a pool under a small
 // sun, seen through the water): next-event estimation from the diffuse
 // vertex is blocked by the specular surface, and a BSDF-sampled direction
-// through it must hit the light by chance (never, for a point light). The
-// paper's remedy is to mollify such a specular interaction: its delta BSDF is
-// replaced by a narrow smooth lobe, so the vertex can sample the light
-// itself and its light samples are weighed by MIS against its own lobe.
+// through it must hit the light by chance (never, for a point light). BDPT
+// fares no better with L S D S E: every connection would end at a specular
+// vertex. The paper's remedy is to mollify such a specular interaction: its
+// delta BSDF is replaced by a narrow smooth lobe, so the vertex can be
+// connected to (a light sample, or a light subpath).
 //
-// Where: a delta vertex after the path's first non-delta vertex (the paper's
-// condition for L S D S E, as the path tracer meets it: a specular vertex the
-// camera reaches before any diffuse one is kept exact). Paths without such a
-// vertex are computed exactly as without regularization; those with one are
-// paths of a slightly different scene, so the image is biased for them.
+// Where: a delta vertex with a non-delta vertex somewhere between it and the
+// camera (the paper's condition for L S D S E; a specular surface the camera
+// reaches before any diffuse one is kept exact). This is a property of the
+// path, not of how it was sampled, so every strategy of BDPT integrates the
+// same regularized contribution and MIS combines them as usual:
+//  * a camera walk regularizes a delta vertex after its first non-delta one
+//    (what the path tracer does);
+//  * a light walk regularizes every delta vertex, since any connection with
+//    t >= 2 ends at a camera vertex that is non-delta or comes after one;
+//  * so the one strategy that may not use a regularized vertex is t = 1
+//    (connecting the light subpath's end to the camera): that vertex has
+//    nothing between it and the camera, so it must be non-delta as it is.
+// Paths without such a vertex are computed exactly as without
+// regularization; those with one are paths of a slightly different scene,
+// so the image is biased for them.
 //
 // How: the delta material's rough twin (Material::mollified: GGX glass or
 // metal of roughness α with the same IOR or Fresnel), here in place of the
@@ -32,11 +43,14 @@
 #include <cstdint>
 #include <memory>
 #include <unordered_map>
+#include "core/params.h"
 #include "core/scene.h"
 
 namespace lb {
 
 struct RegularizationSettings {
+  // regularize, and with it regularize_roughness and regularize_exponent.
+  static RegularizationSettings read(Params& p);
   bool enabled = false;
   float initialRoughness = 0.1f;  // α_0
   float exponent = 1.f / 6.f;     // λ
