@@ -16,6 +16,7 @@ BdptSettings BdptSettings::read(Params& p) {
                               {"each strategy's weighted and unweighted image, up to this path length in segments, "
                                "as layers of the EXR; 0: none",
                                Range::between(0, 8)});
+  s.regularization = RegularizationSettings::read(p);
   p.checkUnused();
   return s;
 }
@@ -35,6 +36,10 @@ int Bdpt::strategyIndex(int s, int t) const {
 
 void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
   const int W = film.width(), H = film.height();
+  if (settings_.regularization.enabled) {  // this pass's roughness, fixed while it renders
+    if (!regularization_) regularization_ = std::make_unique<Regularization>(settings_.regularization);
+    regularization_->prepare(scene, pass);
+  }
   if (settings_.strategyImages > 0 && strategies_.empty())
     for (int len = 1; len <= settings_.strategyImages; ++len)
       for (int t = 1; t <= len + 1; ++t) {
@@ -61,7 +66,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
     Color L(0.f);
     bidir::sampleAllStrategies(
-        scene, {sampler, sampler, sampler, true}, settings_.length, settings_.mis, at.raster, buffers, rays,
+        scene, {sampler, sampler, sampler, true, regularization_.get()}, settings_.length, settings_.mis, at.raster, buffers, rays,
         [&](int s, int t, const bidir::Connection& c) {
           // A t = 1 strategy is splatted through the filter; the others
           // belong to pixel (x, y) with the camera sample's filter weight.

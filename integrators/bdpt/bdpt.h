@@ -13,8 +13,13 @@
 //   mis              power   power (β = 2) | balance | uniform (1 / number of strategies)
 //   strategy_images  0       write weighted and unweighted images of every (s, t)
 //                            with s + t - 1 <= this length (0: none)
+//   regularize       false   path-space regularization (core/bsdfs/regularization.h):
+//                            delta vertices with a non-delta one between them and the
+//                            camera scatter by rough twins, regularize_roughness α_0
+//                            (0.1) shrinking as (k + 1)^-regularize_exponent (1/6)
 #include <memory>
 #include <vector>
+#include "core/bsdfs/regularization.h"
 #include "core/params.h"
 #include "integrators/path_length.h"
 #include "integrators/bidirectional/connect.h"
@@ -26,14 +31,18 @@ struct BdptSettings {
   PathLength length;
   bidir::MisWeighting mis = bidir::MisWeighting::Power;
   int strategyImages = 0;
+  RegularizationSettings regularization;
   static BdptSettings read(Params& p);
 };
 
 
 class Bdpt final : public Integrator {
  public:
-  // Unbiased with independent passes: chunks of passes split a render exactly.
-  std::string splitRefusal() const override { return ""; }
+  // Unbiased with independent passes: chunks of passes split a render exactly
+  // (not a regularized one, whose roughness depends on the pass).
+  std::string splitRefusal() const override {
+    return settings_.regularization.enabled ? "regularize: its roughness follows the passes' count" : "";
+  }
   explicit Bdpt(BdptSettings s) : settings_(s) {}
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<ExrLayer> extraLayers() const override;
@@ -48,6 +57,8 @@ class Bdpt final : public Integrator {
   // Per-strategy films (weighted, unweighted), index strategyIndex(s, t).
   std::vector<std::unique_ptr<Film>> weighted_, unweighted_;
   std::vector<std::pair<int, int>> strategies_;
+  // regularize: the scene's rough twins for the pass being rendered.
+  std::unique_ptr<Regularization> regularization_;
   int strategyIndex(int s, int t) const;
 };
 

@@ -23,6 +23,8 @@ struct SampleStreams {
   // One sampler for all three (bdpt): each decision at a fixed dimension,
   // BdptDimensions. Otherwise each stream is drawn in order (MLT).
   bool fixedDimensions = false;
+  // regularize: this pass's rough twins (core/bsdfs/regularization.h), or null.
+  const Regularization* regularization = nullptr;
 };
 
 // BDPT's dimensions in one sampler, so that Sobol', ZSobol and Halton
@@ -61,12 +63,13 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
   const int maxSeg = length.maxSegments();
   const bool fixed = streams.fixedDimensions;
   int nCamera = generateCameraSubpath(scene, streams.camera, length, raster, buffers.camera, rays,
-                                      fixed ? BdptDimensions::camera() : WalkDimensions{});
+                                      fixed ? BdptDimensions::camera() : WalkDimensions{}, WalkStop::AtLength,
+                                      streams.regularization);
   int nLight;
   {
     PhaseScope phase(Phase::LightSubpaths);
     nLight = generateLightSubpath(scene, streams.light, length, buffers.light, rays,
-                                  fixed ? BdptDimensions::light() : WalkDimensions{});
+                                  fixed ? BdptDimensions::light() : WalkDimensions{}, streams.regularization);
   }
   computePartialSums(scene, mis, Techniques{}, buffers.camera, nCamera, SubpathSide::Camera);
   computePartialSums(scene, mis, Techniques{}, buffers.light, nLight, SubpathSide::Light);

@@ -47,7 +47,9 @@ Connection connect(const Scene& scene, Sampler& sampler, MisWeighting mis, const
     }
   } else if (t == 1) {
     const Vertex& qs = light[size_t(s - 1)];
-    if (qs.connectible() && qs.type == VertexType::Surface) {
+    // A regularized vertex next to the camera is not regularized on this path
+    // (nothing non-delta lies between it and the camera): it stays a delta.
+    if (qs.connectible() && qs.type == VertexType::Surface && !qs.regularized) {
       if (auto cam = scene.camera.connect(qs.p)) {
         sampled = cameraVertex(scene.camera, Color(cam->We / cam->pdf));
         BSDFEval e = BSDF(qs.si).eval(qs.si.wo, glm::normalize(sampled.p - qs.p), TransportMode::Importance);

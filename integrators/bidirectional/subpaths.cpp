@@ -10,12 +10,15 @@ namespace {
 // sampling the BSDF at each hit; returns the number of vertices added.
 int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ray, Color beta, float pdfFwd,
                int maxVertices, TransportMode mode, std::vector<Vertex>& path, int start, uint64_t& rays,
-               const WalkDimensions& dims, WalkStop stop = WalkStop::AtLength) {
+               const WalkDimensions& dims, WalkStop stop, const Regularization* regularization) {
   const float startThroughput = maxComponent(beta);
   const float rouletteScale = startThroughput > 0 ? 1 / startThroughput : 1.f;
   if (maxVertices <= 0) return 0;
   int added = 0;
   float etaScale = 1;
+  // regularize (core/bsdfs/regularization.h): a light walk mollifies every
+  // delta vertex, a camera walk those after its first non-delta one.
+  bool pastNonDelta = mode == TransportMode::Importance;
   while (true) {
     SurfaceInteraction si;
     ++rays;
@@ -31,6 +34,12 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     Vertex& v = path[size_t(start + added)];
     v = surfaceVertex(si, beta);
     v.pdfFwd = convertDensity(prev, pdfFwd, v);
+    if (regularization && pastNonDelta && si.material)
+      if (const Material* twin = regularization->twin(si.material)) {
+        si.material = v.si.material = twin;  // every later use of this vertex sees the twin
+        v.regularized = true;
+      }
+    pastNonDelta = pastNonDelta || (si.material && !si.material->isDelta());
     ++added;
     if (added >= maxVertices || !si.material) break;
     if (stop == WalkStop::AtFirstNonSpecular && v.mergeable()) break;
@@ -71,7 +80,8 @@ int maxSegments(const PathLength& s) { return s.maxSegments(); }
 }  // namespace
 
 int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, Vec2 raster,
-                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dims, WalkStop stop) {
+                          std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dims, WalkStop stop,
+                          const Regularization* regularization) {
   if (maxSegments(s) < 1) return 0;
   Ray ray = scene.camera.generateRay(raster);
   path[0] = cameraVertex(scene.camera, Color(1.f));
@@ -81,11 +91,11 @@ int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength
   // past the caller's array, which caps "unlimited" depth).
   int room = int(path.size()) - 1;
   return 1 + randomWalk(scene, sampler, s, ray, Color(1.f), pdfDir, std::min(maxSegments(s), room),
-                        TransportMode::Radiance, path, 1, rays, dims, stop);
+                        TransportMode::Radiance, path, 1, rays, dims, stop, regularization);
 }
 
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& s, std::vector<Vertex>& path,
-                         uint64_t& rays, const WalkDimensions& dims) {
+                         uint64_t& rays, const WalkDimensions& dims, const Regularization* regularization) {
   if (maxSegments(s) < 1) return 0;
   if (dims.stride > 0) sampler.setDimension(dims.emission);
   auto emitted = sampleEmission(scene, sampler);
@@ -96,7 +106,7 @@ int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength&
   Color beta = emitted->beta;
   // The light subpath needs at most max_depth vertices (s + t - 1 <= max_depth with t >= 1).
   int n = 1 + randomWalk(scene, sampler, s, e->ray, beta, e->pdfDir, std::min(maxSegments(s) - 1, int(path.size()) - 1),
-                         TransportMode::Importance, path, 1, rays, dims);
+                         TransportMode::Importance, path, 1, rays, dims, WalkStop::AtLength, regularization);
   if (light->isInfinite()) {
     // Lights at infinity: the first hit's density is the disc's (per area),
     // and the light vertex's own density is per solid angle (pbrt-v3).

@@ -3,6 +3,7 @@
 // built on its vertices): random walks with Russian roulette whose vertices
 // carry both densities (vertex.h). pbrt-v3 §16.3.2.
 #include <vector>
+#include "core/bsdfs/regularization.h"
 #include "core/sampler.h"
 #include "integrators/bidirectional/vertex.h"
 #include "integrators/path_length.h"
@@ -29,11 +30,14 @@ enum class WalkStop { AtLength, AtFirstNonSpecular };
 // Random walks from the camera through `raster` and from a light chosen by
 // the scene's light sampler. They fill `path` from index 0 and return the
 // number of vertices; `path.size()` caps the walk (it must hold at least
-// one vertex), `length` bounds it in segments and sets the roulette.
+// one vertex), `length` bounds it in segments and sets the roulette. With
+// `regularization`, delta vertices scatter by this pass's rough twins where
+// core/bsdfs/regularization.h says (Vertex::regularized).
 int generateCameraSubpath(const Scene& scene, Sampler& sampler, const PathLength& length, Vec2 raster,
                           std::vector<Vertex>& path, uint64_t& rays, const WalkDimensions& dimensions = {},
-                          WalkStop stop = WalkStop::AtLength);
+                          WalkStop stop = WalkStop::AtLength, const Regularization* regularization = nullptr);
 int generateLightSubpath(const Scene& scene, Sampler& sampler, const PathLength& length, std::vector<Vertex>& path,
-                         uint64_t& rays, const WalkDimensions& dimensions = {});
+                         uint64_t& rays, const WalkDimensions& dimensions = {},
+                         const Regularization* regularization = nullptr);
 
 }  // namespace lb::bidir

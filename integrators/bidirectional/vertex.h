@@ -48,6 +48,7 @@ struct Vertex {
   VertexType type = VertexType::Surface;
   Color beta{0.f};        // throughput of the subpath up to and including this vertex
   bool delta = false;     // sampled a delta lobe here (cannot be connected to)
+  bool regularized = false;  // si.material is a delta material's rough twin (core/bsdfs/regularization.h)
   float pdfFwd = 0, pdfRev = 0;
   Vec3 p{0.f}, ng{0.f}, pError{0.f};
   SurfaceInteraction si;  // Surface vertices

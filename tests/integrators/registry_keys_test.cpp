@@ -250,7 +250,7 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   // choice and bool keys, in both directions.
   // (Containment, not the whole list: a new integrator must not need this test edited.)
   std::string splits = integratorsWith("splits");
-  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt`, ", "`vcm` with `mode: bpt`"})
+  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt` (not with `regularize: true`), ", "`vcm` with `mode: bpt`"})
     EXPECT_NE(splits.find(item), std::string::npos) << item << " in " << splits;
   for (const char* name : {"`sppm`", "`photon`", "`mlt`", "`irradiance_cache`"})
     EXPECT_EQ(splits.find(name), std::string::npos) << name << " in " << splits;

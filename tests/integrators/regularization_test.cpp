@@ -1,15 +1,22 @@
-// Path-space regularization in the path tracer (integrators/path_estimator/
-// regularization.h):
+// Path-space regularization in the path tracer and in BDPT
+// (core/bsdfs/regularization.h):
 //  * the schedule is α_0 (k + 1)^(−λ), as documented;
 //  * where no delta vertex follows a non-delta one (the Cornell box) the
 //    image is the unregularized one, bit for bit; where one does (the glass
 //    sphere's caustic) it is not;
-//  * at a fixed roughness α the regularized path tracer computes exactly the
-//    scene whose glass is rough (GGX, α) after the first diffuse vertex: on
-//    the pixels whose camera ray first meets a diffuse surface, its region
-//    means equal BDPT's on that scene (a different estimator of the rough
-//    scene, written independently), within the seeds' spread;
-//  * refusals.
+//  * at a fixed roughness α the regularized path tracer and the regularized
+//    BDPT compute exactly the scene whose glass is rough (GGX, α) after the
+//    first diffuse vertex: on the pixels whose camera ray first meets a
+//    diffuse surface, their region means equal plain BDPT's on that scene
+//    (an estimator of the rough scene that knows nothing of twins), within
+//    the seeds' spread;
+//  * where the camera sees the floor through water (L S D S E, the case
+//    regularization is for: the water next to the camera stays smooth, the
+//    water next to the light is rough), regularized BDPT's region means equal
+//    the regularized path tracer's — two estimators written apart, one
+//    mollifying by its walk's prefix and next-event estimation, the other by
+//    the path rule its light subpaths and t = 1 strategy follow;
+//  * BDPT's image is the same with one thread or two; refusals.
 // The bias against the true (smooth) scene, and that it shrinks with α, is
 // tested with the other consistent methods (consistent_caustic_test.cpp).
 #include <gtest/gtest.h>
@@ -17,7 +24,7 @@
 #include <cmath>
 #include <tuple>
 #include "core/error.h"
-#include "integrators/path_estimator/regularization.h"
+#include "core/bsdfs/regularization.h"
 #include "tests/support/consistent_helpers.h"
 #include "tests/support/render_helpers.h"
 
@@ -44,20 +51,30 @@ TEST(Regularization, ChangesOnlyPathsWithADeltaVertexAfterANonDeltaOne) {
   SceneFile glass = loadShippedScene("caustic-glass-sphere", 32, 24);
   EXPECT_NE(renderScene(glass, {"path", "{}", 8, 3})->image().pixels,
             renderScene(glass, {"path", "{regularize: true}", 8, 3})->image().pixels);
+  EXPECT_EQ(renderScene(cornell, {"bdpt", "{}", 4, 3})->image().pixels,
+            renderScene(cornell, {"bdpt", "{regularize: true}", 4, 3})->image().pixels);
+  EXPECT_NE(renderScene(glass, {"bdpt", "{}", 4, 3})->image().pixels,
+            renderScene(glass, {"bdpt", "{regularize: true}", 4, 3})->image().pixels);
 }
 
 // α = 0.2, fixed: 2 × 2 regions of the pixels whose camera ray first meets
 // a diffuse surface, and the rough caustic's own pixels (chosen on an
 // independent light-tracing render of the rough scene), where the roughness
 // shapes the mean. Seen failing when a regularized vertex's throughput is
-// scaled by 1.05 and when the twins' roughness is 1.3 α.
-TEST(Regularization, AtAFixedRoughnessItRendersTheRoughScene) {
+// scaled by 1.05 and when the twins' roughness is 1.3 α (path); for BDPT
+// when its light subpaths regularize only after a non-delta vertex, as its
+// camera subpaths do (the caustic is then the smooth sphere's).
+class RegularizedRoughScene : public ::testing::TestWithParam<std::pair<const char*, int>> {};
+
+TEST_P(RegularizedRoughScene, AtAFixedRoughnessItRendersTheRoughScene) {
   const int Seeds = 8, Regions = 2;
+  const auto [integrator, spp] = GetParam();
   SceneFile smooth = loadShippedScene("caustic-glass-sphere", 128, 96);
   SceneFile rough = loadShippedScene("caustic-glass-sphere", 128, 96,
                                      "materials: {floor: {type: diffuse, albedo: 0.7}, "
                                      "glass: {type: dielectric, ior: 1.5, roughness: 0.2}}");
-  const RenderSpec regularize{"path", "{regularize: true, regularize_roughness: 0.2, regularize_exponent: 0}", 256, 40};
+  const RenderSpec regularize{integrator, "{regularize: true, regularize_roughness: 0.2, regularize_exponent: 0}",
+                              uint64_t(spp), 40};
   const RenderSpec bdpt{"bdpt", "{}", 64, 90};
   std::vector<bool> diffuse = diffusePrimaryHits(*smooth.scene);
   std::vector<bool> caustic = causticPixels(rough, {"light", "{}", 256, 700}, diffuse);
@@ -76,6 +93,63 @@ TEST(Regularization, AtAFixedRoughnessItRendersTheRoughScene) {
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(Regularization, RegularizedRoughScene,
+                         ::testing::Values(std::make_pair("path", 256), std::make_pair("bdpt", 192)),
+                         [](const auto& info) { return std::string(info.param.first); });
+
+// The camera above flat water (IOR 1.33) looking down at the floor beneath
+// it, a point light above: the floor's light has crossed the water twice
+// (L S D S E), which neither estimator reaches unregularized.
+const std::string WaterSeenFromAbove =
+    "camera: {position: [0, 0.9, 1.6], look_at: [0, -1, -0.2], fov: 40}\n"
+    "film: {width: 48, height: 36}\n"
+    "materials: {floor: {type: diffuse, albedo: 0.8}, water: {type: dielectric, ior: 1.33}}\n"
+    "shapes:\n"
+    "  - {type: rectangle, material: floor, transform: {scale: 3, rotate_x: -90, translate: [0, -1, 0]}}\n"
+    "  - {type: rectangle, material: water, transform: {scale: 3, rotate_x: -90}}\n"
+    "lights: [{type: point, position: [0.5, 1.5, -0.3], intensity: 6}]\n";
+
+// α = 0.3 fixed, the pixels that see the water as one region. BDPT's seed
+// means are heavy-tailed here (the twin's peaked lobe in connections): at
+// α = 0.2 two sets of 16 seeds read 2.2 % below the path tracer at 3.5 σ of
+// their spread and a third agreed, while two long renders (8192 spp against
+// 16384) agreed within 0.4 %; at α = 0.3 the long renders agree within
+// 0.01 % and this test reads BDPT 1.5 % low, within its bound. What it can
+// resolve: that BDPT reaches L S D S E with the right mean, and a 5 % error
+// (below). It does not resolve the t = 1 rule (letting t = 1 end at a
+// regularized vertex moves the mean by 1.5 %), nor light subpaths that
+// regularize only after a non-delta vertex (−0.2 %: MIS gives the path
+// tracer's strategy, s = 1, 99 % of the weight here); the rough-scene test
+// above fails on the latter (its caustic 25 % too bright).
+TEST(Regularization, BdptSeesTheFloorThroughWaterAsThePathTracerDoes) {
+  const int Seeds = 16, Regions = 1;
+  SceneFile scene = loadSceneFromString(WaterSeenFromAbove, "water-from-above.yaml");
+  std::vector<bool> water = primaryHitMask(
+      *scene.scene, [](bool hit, const SurfaceInteraction& si) { return hit && si.material && si.material->isDelta(); });
+  ASSERT_GT(countTrue(water), 1000u);
+  const std::string params = "{regularize: true, regularize_roughness: 0.3, regularize_exponent: 0}";
+  SeedMeans bdpt = maskedSeedMeans(scene, {"bdpt", params, 128, 21}, 2 * Seeds, Regions, water);
+  SeedMeans path = maskedSeedMeans(scene, {"path", params, 1024, 61}, Seeds, Regions, water);
+  const int comparisons = Regions * Regions * 3;
+  EXPECT_EQ(bdpt.nonFinite, 0u);
+  std::string failures = compareSeedMeans(bdpt, path, Alpha, comparisons);
+  EXPECT_TRUE(failures.empty()) << failures;
+  EXPECT_FALSE(compareSeedMeans(scaled(bdpt, 1.05), path, Alpha, comparisons).empty());
+  // Unregularized, BDPT does not reach the floor through the water at all.
+  double unregularized = maskedSeedMeans(scene, {"bdpt", "{}", 16, 21}, 2, 1, water).regions.mean[1];
+  double all = 0;
+  for (double m : path.regions.mean) all += m;
+  EXPECT_LT(unregularized, 0.01 * all / double(path.regions.mean.size()));
+}
+
+TEST(Regularization, BdptSameImageWithOneThreadOrTwo) {
+  SceneFile scene = loadSceneFromString(WaterSeenFromAbove, "water-from-above.yaml");
+  RenderSpec spec{"bdpt", "{regularize: true}", 4, 5, 1};
+  Image one = renderScene(scene, spec)->image();
+  spec.threads = 2;
+  EXPECT_EQ(one.pixels, renderScene(scene, spec)->image().pixels);
+}
+
 TEST(Regularization, RefusesWhatItCannotHonour) {
   SceneFile scene = loadShippedScene("cornell-box", 8, 8);
   for (const auto& [integrator, params] : std::vector<std::pair<std::string, std::string>>{
@@ -84,6 +158,9 @@ TEST(Regularization, RefusesWhatItCannotHonour) {
            {"path", "{regularize_roughness: 0.2}"},  // a key of regularize: true only
            {"path", "{regularize: true, regularize_exponent: 0.5}"},  // not consistent
            {"guided", "{regularize: true}"},
+           {"bdpt", "{regularize_roughness: 0.2}"},
+           {"bdpt", "{regularize: true, regularize_exponent: 0.5}"},
+           {"vcm", "{regularize: true}"},
        })
     EXPECT_THROW(renderScene(scene, {integrator, params, 1, 1}), ConfigError) << integrator << " " << params;
   RenderSpec adaptive{"path", "{regularize: true}", 4, 1};
