@@ -117,7 +117,8 @@ const std::string WaterSeenFromAbove =
 // 0.01 % and this test reads BDPT 1.5 % low, within its bound. What it can
 // resolve: that BDPT reaches L S D S E with the right mean, and a 5 % error
 // (below). It does not resolve the t = 1 rule (letting t = 1 end at a
-// regularized vertex moves the mean by 1.5 %), nor light subpaths that
+// regularized vertex moves the mean by 1.5 %; the black-floor test below
+// does), nor light subpaths that
 // regularize only after a non-delta vertex (−0.2 %: MIS gives the path
 // tracer's strategy, s = 1, 99 % of the weight here); the rough-scene test
 // above fails on the latter (its caustic 25 % too bright).
@@ -140,6 +141,24 @@ TEST(Regularization, BdptSeesTheFloorThroughWaterAsThePathTracerDoes) {
   double all = 0;
   for (double m : path.regions.mean) all += m;
   EXPECT_LT(unregularized, 0.01 * all / double(path.regions.mean.size()));
+}
+
+// The same water over a black floor: every path that reaches the camera
+// meets the smooth water first and then either the black floor or nothing,
+// so the regularized image is exactly black. A light subpath regularizes
+// the water too, and connecting its rough twin to the camera (t = 1) would
+// paint the light's glossy reflection on it: this is the rule that forbids
+// it (seen failing without it: the highlight sums to 0.15 over the image).
+TEST(Regularization, BdptNeverConnectsARegularizedVertexToTheCamera) {
+  std::string text = WaterSeenFromAbove;
+  text.replace(text.find("albedo: 0.8"), 11, "albedo: 0.0");
+  SceneFile scene = loadSceneFromString(text, "water-over-black.yaml");
+  for (const char* integrator : {"bdpt", "path"}) {
+    Image image = renderScene(scene, {integrator, "{regularize: true, regularize_roughness: 0.3}", 16, 7})->image();
+    double sum = 0;
+    for (const Color& c : image.pixels) sum += double(c.r) + c.g + c.b;
+    EXPECT_EQ(sum, 0.0) << integrator;
+  }
 }
 
 TEST(Regularization, BdptSameImageWithOneThreadOrTwo) {
