@@ -28,6 +28,10 @@ struct StrategySplat {
 };
 }  // namespace
 
+Bdpt::Bdpt(BdptSettings s) : settings_(s) {
+  if (s.regularization.enabled) regularization_ = std::make_unique<Regularization>(s.regularization);
+}
+
 int Bdpt::strategyIndex(int s, int t) const {
   for (size_t i = 0; i < strategies_.size(); ++i)
     if (strategies_[i] == std::make_pair(s, t)) return int(i);
@@ -36,10 +40,7 @@ int Bdpt::strategyIndex(int s, int t) const {
 
 void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) {
   const int W = film.width(), H = film.height();
-  if (settings_.regularization.enabled) {  // this pass's roughness, fixed while it renders
-    if (!regularization_) regularization_ = std::make_unique<Regularization>(settings_.regularization);
-    regularization_->prepare(scene, pass);
-  }
+  if (regularization_) regularization_->prepare(scene, pass);  // this pass's roughness, fixed while it renders
   if (settings_.strategyImages > 0 && strategies_.empty())
     for (int len = 1; len <= settings_.strategyImages; ++len)
       for (int t = 1; t <= len + 1; ++t) {

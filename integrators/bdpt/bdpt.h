@@ -43,7 +43,7 @@ class Bdpt final : public Integrator {
   std::string splitRefusal() const override {
     return settings_.regularization.enabled ? "regularize: its roughness follows the passes' count" : "";
   }
-  explicit Bdpt(BdptSettings s) : settings_(s) {}
+  explicit Bdpt(BdptSettings s);
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<ExrLayer> extraLayers() const override;
   // Per-strategy film (after a render with strategy_images > 0), or null.

@@ -34,12 +34,14 @@ int randomWalk(const Scene& scene, Sampler& sampler, const PathLength& s, Ray ra
     Vertex& v = path[size_t(start + added)];
     v = surfaceVertex(si, beta);
     v.pdfFwd = convertDensity(prev, pdfFwd, v);
-    if (regularization && pastNonDelta && si.material)
-      if (const Material* twin = regularization->twin(si.material)) {
-        si.material = v.si.material = twin;  // every later use of this vertex sees the twin
-        v.regularized = true;
-      }
-    pastNonDelta = pastNonDelta || (si.material && !si.material->isDelta());
+    if (regularization && si.material) {
+      if (pastNonDelta)
+        if (const Material* twin = regularization->twin(si.material)) {
+          si.material = v.si.material = twin;  // every later use of this vertex sees the twin
+          v.regularized = true;
+        }
+      pastNonDelta = pastNonDelta || !si.material->isDelta();
+    }
     ++added;
     if (added >= maxVertices || !si.material) break;
     if (stop == WalkStop::AtFirstNonSpecular && v.mergeable()) break;
