@@ -44,28 +44,74 @@ std::vector<std::string> choices(const std::string& allowed) {
 
 // One integrator against a property: at its defaults, and the settings (one
 // value of one choice or bool key) under which it differs from its defaults.
+struct Setting {
+  std::string key, value;
+  std::string text() const { return "`" + key + ": " + value + "`"; }
+};
+
 struct Verdict {
   std::string name, why;  // why it lacks the property at its defaults ("" if it has it)
-  std::vector<std::pair<std::string, std::string>> exceptions;  // "`key: value`", why not there
+  std::vector<std::pair<Setting, std::string>> exceptions;  // a setting, and why not there
+  // Where it lacks the property at its defaults but has it with the
+  // exceptions: a setting of another key that takes it away from every one
+  // of them (vcm splits in mode bpt, not with regularize: true), and why.
+  std::vector<std::pair<Setting, std::string>> spoilers;
   std::string joined() const {
     std::string out;
-    for (size_t i = 0; i < exceptions.size(); ++i) out += (i == 0 ? "" : " or ") + exceptions[i].first;
+    for (size_t i = 0; i < exceptions.size(); ++i) out += (i == 0 ? "" : " or ") + exceptions[i].first.text();
     return out;
+  }
+  std::string spoiled() const {
+    std::string out;
+    for (size_t i = 0; i < spoilers.size(); ++i) out += (i == 0 ? "" : " or ") + spoilers[i].first.text();
+    return out.empty() ? out : " (not with " + out + ")";
   }
 };
 
-Verdict judge(const IntegratorEntry& e, const std::string& property) {
-  Verdict v{e.name, whyNot(e, property, YAML::Node(YAML::NodeType::Map)), {}};
-  for (const KeyDoc& k : integratorKeys(e.name)) {
+// Every non-default value of each choice and bool key that has no condition.
+std::vector<Setting> singleSettings(const std::string& integrator) {
+  std::vector<Setting> out;
+  for (const KeyDoc& k : integratorKeys(integrator)) {
     if ((k.type != "choice" && k.type != "bool") || !k.condition.empty()) continue;
     std::vector<std::string> values = k.type == "bool" ? std::vector<std::string>{"true", "false"} : choices(k.allowed);
-    for (const std::string& value : values) {
-      if (value == k.fallback) continue;
+    for (const std::string& value : values)
+      if (value != k.fallback) out.push_back({k.key, value});
+  }
+  return out;
+}
+
+Verdict judge(const IntegratorEntry& e, const std::string& property) {
+  Verdict v{e.name, whyNot(e, property, YAML::Node(YAML::NodeType::Map)), {}, {}};
+  const std::vector<Setting> settings = singleSettings(e.name);
+  for (const Setting& s : settings) {
+    YAML::Node yaml(YAML::NodeType::Map);
+    yaml[s.key] = s.value;
+    std::string why = whyNot(e, property, yaml);
+    if (why.empty() != v.why.empty()) v.exceptions.push_back({s, why});
+  }
+  if (v.why.empty() || v.exceptions.empty()) return v;
+  for (const Setting& other : settings) {
+    std::string why;
+    bool spoils = true;
+    for (const auto& [s, unused] : v.exceptions) {
+      if (s.key == other.key) {
+        spoils = false;
+        break;
+      }
       YAML::Node yaml(YAML::NodeType::Map);
-      yaml[k.key] = value;
-      std::string why = whyNot(e, property, yaml);
-      if (why.empty() != v.why.empty()) v.exceptions.push_back({"`" + k.key + ": " + value + "`", why});
+      yaml[s.key] = s.value;
+      yaml[other.key] = other.value;
+      try {
+        why = whyNot(e, property, yaml);
+      } catch (const ConfigError&) {  // a combination the integrator refuses is no setting of it
+        why.clear();
+      }
+      if (why.empty()) {
+        spoils = false;
+        break;
+      }
     }
+    if (spoils) v.spoilers.push_back({other, why});
   }
   return v;
 }
@@ -79,7 +125,7 @@ std::string integratorsWith(const std::string& property) {
     Verdict v = judge(e, property);
     std::string item;
     if (v.why.empty()) item = "`" + v.name + "`" + (v.exceptions.empty() ? "" : " (not with " + v.joined() + ")");
-    else if (!v.exceptions.empty()) item = "`" + v.name + "` with " + v.joined();
+    else if (!v.exceptions.empty()) item = "`" + v.name + "` with " + v.joined() + v.spoiled();
     if (!item.empty()) out += (out.empty() ? "" : ", ") + item;
   }
   return out;
@@ -90,10 +136,14 @@ std::string integratorsWithout(const std::string& property) {
   std::string out;
   for (const auto& e : integratorRegistry()) {
     Verdict v = judge(e, property);
-    if (!v.why.empty())
+    if (!v.why.empty()) {
       out += "- `" + v.name + "`" + (v.exceptions.empty() ? "" : " (not with " + v.joined() + ")") + ": " + v.why + "\n";
-    else
-      for (const auto& [setting, why] : v.exceptions) out += "- `" + v.name + "` with " + setting + ": " + why + "\n";
+      for (const auto& [setting, why] : v.spoilers)
+        out += "- `" + v.name + "` with " + v.joined() + " and " + setting.text() + ": " + why + "\n";
+    } else {
+      for (const auto& [setting, why] : v.exceptions)
+        out += "- `" + v.name + "` with " + setting.text() + ": " + why + "\n";
+    }
   }
   return out;
 }

@@ -250,8 +250,12 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   // choice and bool keys, in both directions.
   // (Containment, not the whole list: a new integrator must not need this test edited.)
   std::string splits = integratorsWith("splits");
-  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt` (not with `regularize: true`), ", "`vcm` with `mode: bpt`"})
+  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt` (not with `regularize: true`), ",
+                           "`vcm` with `mode: bpt` or `mode: lvc` (not with `regularize: true`)"})
     EXPECT_NE(splits.find(item), std::string::npos) << item << " in " << splits;
+  // A setting that takes the property away from every exception is named
+  // too (mode: bpt is unbiased, regularized it is not).
+  EXPECT_NE(integratorsWith("unbiased").find("`vcm` with `mode: bpt` (not with `regularize: true`)"), std::string::npos);
   for (const char* name : {"`sppm`", "`photon`", "`mlt`", "`irradiance_cache`"})
     EXPECT_EQ(splits.find(name), std::string::npos) << name << " in " << splits;
   EXPECT_NE(integratorsWith("adaptive").find(
@@ -263,6 +267,9 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   // Those that cannot be split carry their own reason (splitRefusal()).
   std::string cannot = integratorsWithout("splits");
   EXPECT_NE(cannot.find("- `vcm` (not with `mode: bpt` or `mode: lvc`): its merging radius"), std::string::npos)
+      << cannot;
+  EXPECT_NE(cannot.find("- `vcm` with `mode: bpt` or `mode: lvc` and `regularize: true`: regularize: its roughness"),
+            std::string::npos)
       << cannot;
   EXPECT_NE(cannot.find("- `sppm`: each pass shrinks"), std::string::npos) << cannot;
   EXPECT_EQ(cannot.find("- `path`:"), std::string::npos) << cannot;
