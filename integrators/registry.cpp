@@ -47,7 +47,9 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<DirectLighting>(DirectLightingSettings::read(p)); }, always},
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
        [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
-       [](const YAML::Node& p) { return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt"; }},
+       [](const YAML::Node& p) {
+         return p["mode"] && p["mode"].IsScalar() && p["mode"].Scalar() == "bpt" && !isTrue(p["regularize"]);
+       }},
       {"guided", "path tracing guided by learned directions: Q-learning (Dahm & Keller 2017) or an SD-tree "
                  "(Müller et al. 2017), mixed with BSDF sampling",
        [](Params& p) { return std::make_unique<GuidedPathTracer>(GuidedSettings::read(p)); }, always},

@@ -1,7 +1,7 @@
 #pragma once
 // Path-space regularization (Kaplanyan & Dachsbacher 2013, "Path Space
 // Regularization for Holistic and Robust Light Transport"), for the path
-// tracer (`path`) and BDPT (`bdpt`), both with `regularize: true`.
+// tracer (`path`), BDPT (`bdpt`) and VCM (`vcm`), with `regularize: true`.
 //
 // A path tracer cannot complete a path whose light reaches a diffuse vertex
 // only through a specular one (L S D … E: the floor of a pool under a small
@@ -24,7 +24,10 @@
 //    t >= 2 ends at a camera vertex that is non-delta or comes after one;
 //  * so the one strategy that may not use a regularized vertex is t = 1
 //    (connecting the light subpath's end to the camera): that vertex has
-//    nothing between it and the camera, so it must be non-delta as it is.
+//    nothing between it and the camera, so it must be non-delta as it is;
+//  * a merge (VCM) evaluates the camera vertex's BSDF only, at a vertex that
+//    is non-delta or a twin: either way a non-delta vertex lies on the
+//    camera's side, so the light subpath's twins are the rule's.
 // Paths without such a vertex are computed exactly as without
 // regularization; those with one are paths of a slightly different scene,
 // so the image is biased for them.

@@ -47,8 +47,13 @@ VcmSettings VcmSettings::read(Params& p) {
                         Range::openClosed(0, 1)});
   s.gridLookup = p.getChoice("lookup", "grid", {"grid", "flann"},
                              "how light vertices near a camera vertex are found: a hash grid or FLANN's kd-tree") == "grid";
+  s.regularization = RegularizationSettings::read(p);
   p.checkUnused();
   return s;
+}
+
+Vcm::Vcm(VcmSettings s) : settings_(s) {
+  if (s.regularization.enabled) regularization_ = std::make_unique<Regularization>(s.regularization);
 }
 
 float Vcm::radius(const Scene& scene, uint64_t pass) const {
@@ -83,6 +88,14 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
   const size_t cameraCapacity = size_t(std::min(maxSeg, 1 << 12)) + 1;
   const size_t lightCapacity = std::max<size_t>(1, cameraCapacity - 1);
   const bool weighted = settings_.mode != VcmMode::Ppm;  // ppm: merging alone, weight 1
+  // regularize: this pass's twins, used by both walks as bdpt's are
+  // (core/bsdfs/regularization.h). A merge joins the light subpath to a
+  // camera vertex and evaluates only that vertex's BSDF: mergeable only if
+  // non-delta or a twin, i.e. with a non-delta vertex on the camera's side,
+  // so the light subpath's twins are the ones the rule asks for; t = 1 may
+  // not end at a twin (connect.cpp), as in bdpt.
+  if (regularization_) regularization_->prepare(scene, pass);
+  const Regularization* regularization = regularization_.get();
 
   // 1. Light subpaths, one per pixel, from a stream apart from the pixel's
   //    camera subpath; with connections, each vertex is joined to the camera.
@@ -102,7 +115,7 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     light.resize(lightCapacity);
     size_t pixel = size_t(y) * W + x;
     sampler.start(N + pixel, pass);
-    int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays);
+    int n = bidir::generateLightSubpath(scene, sampler, settings_.length, light, rays, {}, regularization);
     if (weighted) bidir::computePartialSums(scene, settings_.mis, techniques, light, n, bidir::SubpathSide::Light);
     if (settings_.connections())
       for (int s = 2; s <= n && s <= maxSeg; ++s) {  // t = 1: s segments
@@ -165,7 +178,8 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     // Progressive photon mapping merges at the first non-specular vertex
     // only, and weighs nothing: its camera walk ends there, without sums.
     int nc = bidir::generateCameraSubpath(scene, sampler, settings_.length, at.raster, camera, rays, {},
-                                          weighted ? bidir::WalkStop::AtLength : bidir::WalkStop::AtFirstNonSpecular);
+                                          weighted ? bidir::WalkStop::AtLength : bidir::WalkStop::AtFirstNonSpecular,
+                                          regularization);
     if (weighted) bidir::computePartialSums(scene, settings_.mis, techniques, camera, nc, bidir::SubpathSide::Camera);
     const LightSubpathRef& own = lightSubpaths_[pixel];
     bidir::Subpath light(tileVertices_[own.tile].data() + own.first, own.count);

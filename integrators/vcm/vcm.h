@@ -55,7 +55,14 @@
 //                            iteration against FLANN's 7 ms (serial), on the
 //                            Cornell box with spheres at 128² (docs/results.md,
 //                            `lightbench_bench --benchmark_filter=VcmIteration`).
+//   regularize       false   path-space regularization (core/bsdfs/regularization.h),
+//                            as in bdpt: both subpaths' walks follow the path rule,
+//                            merges happen at camera vertices only, so a merge at a
+//                            rough twin is one the rule allows; regularize_roughness
+//                            α_0 (0.1) shrinking as (k + 1)^-regularize_exponent (1/6)
+#include <memory>
 #include <vector>
+#include "core/bsdfs/regularization.h"
 #include "core/params.h"
 #include "integrators/bidirectional/connect.h"
 #include "integrators/integrator.h"
@@ -73,6 +80,7 @@ struct VcmSettings {
   float alpha = 0.75f;
   bool gridLookup = true;
   int cacheConnections = 1;  // lvc: k
+  RegularizationSettings regularization;
   // lvc, for tests only (no key): the count the weights give a connection
   // instead of k·N/M; 0: k·N/M. Any count keeps the estimator unbiased (the
   // weights still sum to 1), so a test can give connections nearly all the
@@ -85,13 +93,15 @@ struct VcmSettings {
 
 class Vcm final : public Integrator {
  public:
-  explicit Vcm(VcmSettings s) : settings_(s) {}
+  explicit Vcm(VcmSettings s);
   // mode bpt merges nothing and is unbiased; merging shrinks its radius with
-  // the pass index, which a chunk would restart (the bias of its own passes).
+  // the pass index, which a chunk would restart (the bias of its own passes),
+  // and so does regularization its roughness.
   std::string splitRefusal() const override {
-    return settings_.merging() ? "its merging radius shrinks with the pass index; a chunk restarts it, so the mean "
-                                 "of chunks keeps the bias of one chunk's passes (modes bpt and lvc, unbiased, split exactly)"
-                               : "";
+    if (settings_.merging())
+      return "its merging radius shrinks with the pass index; a chunk restarts it, so the mean "
+             "of chunks keeps the bias of one chunk's passes (modes bpt and lvc, unbiased, split exactly)";
+    return settings_.regularization.enabled ? "regularize: its roughness follows the passes' count" : "";
   }
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   // The merging radius of iteration `pass` (0-based), r_1 · (pass + 1)^((α−1)/2).
@@ -106,6 +116,8 @@ class Vcm final : public Integrator {
   std::vector<std::vector<bidir::Vertex>> tileVertices_;
   std::vector<LightSubpathRef> lightSubpaths_;
   size_t cachedBefore_ = 0;  // lvc: M of the previous pass (0: none yet), for the MIS weights
+  // regularize: the scene's rough twins for the pass being rendered.
+  std::unique_ptr<Regularization> regularization_;
 };
 
 }  // namespace lb
