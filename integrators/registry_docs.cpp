@@ -49,18 +49,13 @@ struct Setting {
   std::string text() const { return "`" + key + ": " + value + "`"; }
 };
 
-struct Verdict {
-  std::string name, why;  // why it lacks the property at its defaults ("" if it has it)
-  std::vector<std::pair<Setting, std::string>> exceptions;  // a setting, and why not there
-  // Where it lacks the property at its defaults but has it with the
-  // exceptions: a setting of another key that takes it away from every one
-  // of them (vcm splits in mode bpt, not with regularize: true), and why.
+struct Exception {
+  Setting setting;
+  std::string why;  // why it lacks the property there ("" if it has it)
+  // Where it lacks the property at its defaults and has it with this
+  // setting: the settings of other keys that take it away again (vcm splits
+  // in mode bpt, not with regularize: true), each with why.
   std::vector<std::pair<Setting, std::string>> spoilers;
-  std::string joined() const {
-    std::string out;
-    for (size_t i = 0; i < exceptions.size(); ++i) out += (i == 0 ? "" : " or ") + exceptions[i].first.text();
-    return out;
-  }
   std::string spoiled() const {
     std::string out;
     for (size_t i = 0; i < spoilers.size(); ++i) out += (i == 0 ? "" : " or ") + spoilers[i].first.text();
@@ -68,7 +63,29 @@ struct Verdict {
   }
 };
 
-// Every non-default value of each choice and bool key that has no condition.
+struct Verdict {
+  std::string name, why;  // why it lacks the property at its defaults ("" if it has it)
+  std::vector<Exception> exceptions;
+  std::string joined() const {
+    std::string out;
+    for (size_t i = 0; i < exceptions.size(); ++i) out += (i == 0 ? "" : " or ") + exceptions[i].setting.text();
+    return out;
+  }
+  // The exceptions with what spoils them: one "(not with …)" after the list
+  // when every exception has the same, otherwise after each.
+  std::string joinedWithSpoilers() const {
+    bool same = true;
+    for (const Exception& x : exceptions) same = same && x.spoiled() == exceptions.front().spoiled();
+    if (same) return joined() + exceptions.front().spoiled();
+    std::string out;
+    for (size_t i = 0; i < exceptions.size(); ++i)
+      out += (i == 0 ? "" : " or ") + exceptions[i].setting.text() + exceptions[i].spoiled();
+    return out;
+  }
+};
+
+// Every non-default value of each choice and bool key that has no condition
+// (a conditional key's values are not settings of their own).
 std::vector<Setting> singleSettings(const std::string& integrator) {
   std::vector<Setting> out;
   for (const KeyDoc& k : integratorKeys(integrator)) {
@@ -81,38 +98,29 @@ std::vector<Setting> singleSettings(const std::string& integrator) {
 }
 
 Verdict judge(const IntegratorEntry& e, const std::string& property) {
-  Verdict v{e.name, whyNot(e, property, YAML::Node(YAML::NodeType::Map)), {}, {}};
+  Verdict v{e.name, whyNot(e, property, YAML::Node(YAML::NodeType::Map)), {}};
   const std::vector<Setting> settings = singleSettings(e.name);
   for (const Setting& s : settings) {
     YAML::Node yaml(YAML::NodeType::Map);
     yaml[s.key] = s.value;
     std::string why = whyNot(e, property, yaml);
-    if (why.empty() != v.why.empty()) v.exceptions.push_back({s, why});
+    if (why.empty() != v.why.empty()) v.exceptions.push_back({s, why, {}});
   }
-  if (v.why.empty() || v.exceptions.empty()) return v;
-  for (const Setting& other : settings) {
-    std::string why;
-    bool spoils = true;
-    for (const auto& [s, unused] : v.exceptions) {
-      if (s.key == other.key) {
-        spoils = false;
-        break;
-      }
+  if (v.why.empty()) return v;
+  for (Exception& x : v.exceptions)
+    for (const Setting& other : settings) {
+      if (other.key == x.setting.key) continue;
       YAML::Node yaml(YAML::NodeType::Map);
-      yaml[s.key] = s.value;
+      yaml[x.setting.key] = x.setting.value;
       yaml[other.key] = other.value;
+      std::string why;
       try {
         why = whyNot(e, property, yaml);
       } catch (const ConfigError&) {  // a combination the integrator refuses is no setting of it
-        why.clear();
+        continue;
       }
-      if (why.empty()) {
-        spoils = false;
-        break;
-      }
+      if (!why.empty()) x.spoilers.push_back({other, why});
     }
-    if (spoils) v.spoilers.push_back({other, why});
-  }
   return v;
 }
 
@@ -125,7 +133,7 @@ std::string integratorsWith(const std::string& property) {
     Verdict v = judge(e, property);
     std::string item;
     if (v.why.empty()) item = "`" + v.name + "`" + (v.exceptions.empty() ? "" : " (not with " + v.joined() + ")");
-    else if (!v.exceptions.empty()) item = "`" + v.name + "` with " + v.joined() + v.spoiled();
+    else if (!v.exceptions.empty()) item = "`" + v.name + "` with " + v.joinedWithSpoilers();
     if (!item.empty()) out += (out.empty() ? "" : ", ") + item;
   }
   return out;
@@ -138,11 +146,11 @@ std::string integratorsWithout(const std::string& property) {
     Verdict v = judge(e, property);
     if (!v.why.empty()) {
       out += "- `" + v.name + "`" + (v.exceptions.empty() ? "" : " (not with " + v.joined() + ")") + ": " + v.why + "\n";
-      for (const auto& [setting, why] : v.spoilers)
-        out += "- `" + v.name + "` with " + v.joined() + " and " + setting.text() + ": " + why + "\n";
+      for (const Exception& x : v.exceptions)
+        for (const auto& [spoiler, why] : x.spoilers)
+          out += "- `" + v.name + "` with " + x.setting.text() + " and " + spoiler.text() + ": " + why + "\n";
     } else {
-      for (const auto& [setting, why] : v.exceptions)
-        out += "- `" + v.name + "` with " + setting.text() + ": " + why + "\n";
+      for (const Exception& x : v.exceptions) out += "- `" + v.name + "` with " + x.setting.text() + ": " + x.why + "\n";
     }
   }
   return out;
