@@ -92,6 +92,11 @@ std::optional<BSDFSample> RoughDielectric::sample(const Vec3& wo, float uLobe, V
 }
 
 std::unique_ptr<Material> SmoothDielectric::mollified(float alpha) const {
+  // An index-matched interface bends nothing, so there is nothing to
+  // mollify; and the rough model cannot represent it (its half-vector
+  // wi + wo vanishes for straight transmission: the twin would be black),
+  // as the material factory says too.
+  if (eta_ == 1.f) return nullptr;
   auto twin = std::make_unique<RoughDielectric>(eta_, alpha);
   shareSurfaceWith(*twin);
   return twin;

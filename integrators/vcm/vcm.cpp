@@ -132,9 +132,11 @@ void Vcm::renderPass(const Scene& scene, Film& film, const Sampler& prototype, u
     uint32_t first = uint32_t(stored.size());
     stored.insert(stored.end(), light.begin(), light.begin() + n);
     lightSubpaths_[pixel] = {uint32_t(tile), first, uint32_t(n)};
+    // (ppm merges only at a camera walk's first non-delta vertex, never at a
+    // twin: photons on twins would only leak into nearby diffuse surfaces.)
     if (settings_.merging())
       for (int j = 1; j < n; ++j)
-        if (light[size_t(j)].mergeable())
+        if (light[size_t(j)].mergeable() && !(light[size_t(j)].regularized && settings_.mode == VcmMode::Ppm))
           tilePoints[size_t(tile)].push_back(light[size_t(j)].p), tileRefs[size_t(tile)].push_back({uint32_t(tile), first, uint32_t(j)});
     // lvc: the cache, every vertex a camera vertex can connect to within
     // max_depth (s = j + 1 light vertices and t >= 2: j + 2 segments at least).

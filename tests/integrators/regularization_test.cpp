@@ -18,7 +18,7 @@
 //    the path rule its light subpaths and t = 1 strategy follow;
 //  * so do VCM's merges (modes vcm and bpm), which join a regularized light
 //    subpath at a camera vertex;
-//  * BDPT's and VCM's images are the same with one thread or two; refusals.
+//  * each image is the same with one thread or two; refusals.
 // The bias against the true (smooth) scene, and that it shrinks with α, is
 // tested with the other consistent methods (consistent_caustic_test.cpp).
 #include <gtest/gtest.h>
@@ -26,6 +26,7 @@
 #include <cmath>
 #include <tuple>
 #include "core/error.h"
+#include "core/bsdfs/dielectric.h"
 #include "core/bsdfs/regularization.h"
 #include "tests/support/consistent_helpers.h"
 #include "tests/support/render_helpers.h"
@@ -43,6 +44,14 @@ TEST(Regularization, RoughnessFollowsTheSchedule) {
     EXPECT_NEAR(s.roughness(k), 0.2 * std::pow(double(k) + 1, -1.0 / 6.0), 1e-6) << k;
   s.exponent = 0;
   EXPECT_EQ(s.roughness(0), s.roughness(12345));
+}
+
+// An index-matched interface bends nothing and the rough model cannot
+// represent it (its half-vector vanishes for straight transmission): it
+// keeps no twin, rather than one that transmits nothing.
+TEST(Regularization, AnIndexMatchedInterfaceHasNoTwin) {
+  EXPECT_EQ(SmoothDielectric(1.f).mollified(0.1f), nullptr);
+  EXPECT_NE(SmoothDielectric(1.33f).mollified(0.1f), nullptr);
 }
 
 TEST(Regularization, ChangesOnlyPathsWithADeltaVertexAfterANonDeltaOne) {
@@ -209,9 +218,9 @@ TEST(Regularization, BdptNeverConnectsARegularizedVertexToTheCamera) {
   }
 }
 
-TEST(Regularization, BdptAndVcmSameImageWithOneThreadOrTwo) {
+TEST(Regularization, SameImageWithOneThreadOrTwo) {
   SceneFile scene = loadSceneFromString(WaterSeenFromAbove, "water-from-above.yaml");
-  for (const char* integrator : {"bdpt", "vcm"}) {
+  for (const char* integrator : {"path", "bdpt", "vcm"}) {
     RenderSpec spec{integrator, "{regularize: true}", 4, 5, 1};
     Image one = renderScene(scene, spec)->image();
     spec.threads = 2;
