@@ -31,12 +31,16 @@ struct PathLength {
 
   int maxSegments() const { return maxDepth < 0 ? 1 << 20 : maxDepth; }
 
+  // The probability survivesRoulette() keeps a path with (1 where it does not play).
+  float survivalProbability(int segments, const Color& beta, float etaScale) const {
+    if (!russianRoulette || segments < rrDepth) return 1.f;
+    return std::min(1.f, maxComponent(beta) * etaScale);
+  }
   // Russian roulette after `segments` segments (pbrt-v4 §13.4): survive with
   // probability min(1, max β·η²) and reweight β; false if the path ends.
   // etaScale removes radiance's 1/η² scaling from the decision.
   bool survivesRoulette(int segments, Color& beta, float etaScale, Sampler& sampler) const {
-    if (!russianRoulette || segments < rrDepth) return true;
-    float survive = std::min(1.f, maxComponent(beta) * etaScale);
+    float survive = survivalProbability(segments, beta, etaScale);
     if (survive >= 1) return true;
     if (sampler.get1D() >= survive) return false;
     beta /= survive;

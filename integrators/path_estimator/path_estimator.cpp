@@ -474,8 +474,13 @@ bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const
     next.manifoldChain = manifoldChainAfter(next.manifoldChain, bsdf, refracted, reflected);
   next.prevPoint = si.p;
   next.ray = si.spawnRay(wi);
-  if (!roulette) return true;
+  return !roulette || survivesRoulette(next, sampler, slots);
+}
+
+bool PathEstimator::survivesRoulette(PathState& next, Sampler& sampler, uint32_t slots, float* survival) const {
+  const int segments = next.vertex + 1;
   sampler.setDimension(slots + settings_.scatterSlot() + 3);
+  if (survival) *survival = settings_.length.survivalProbability(segments, next.beta, next.etaScale);
   return settings_.length.survivesRoulette(segments, next.beta, next.etaScale, sampler);
 }
 

@@ -255,6 +255,9 @@ class PathEstimator {
                   ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
   bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots,
                const DirectionGuide* guide = nullptr, bool roulette = true) const;
+  // Classic roulette on the direction scatter() just took (its last
+  // sampler dimension); `survival`, if given, receives the probability.
+  bool survivesRoulette(PathState& next, Sampler& sampler, uint32_t slots, float* survival = nullptr) const;
   // rrs: adrrs | ears: the factor q for the continuation from the vertex in
   // the cache's `cacheSlot` (before the caps on nesting and on the path's
   // product of factors); none where classic roulette decides instead.

@@ -46,9 +46,23 @@ bool PathEstimator::split(PathState& s, const SurfaceInteraction& si, const BSDF
   std::optional<float> factor = splitFactor(s, slot, bsdf, r);
   if (!factor) {
     // Classic roulette, exactly as rrs: classic (path_length.h, on β after
-    // the direction), the continuation still recorded.
-    if (pendingCount < MaxRecordedVertices) pending[pendingCount++] = {slot, s.beta, L, rays};
-    return scatter(s, si, bsdf, c.sampler, slots, c.guide, true);
+    // the direction). Its continuation is recorded as a learned q = p would
+    // be (below): only if taken, per unit of the throughput β/p it carries.
+    // (Recording a killed one as a zero and a survivor per unit of β, as
+    // before, kept the mean but inflated the cell's second moment by 1/p
+    // and cut its cost by p, so EARS's q came out 1/p too large at every
+    // cell classic roulette had taught; iRath96/ears records only the
+    // continuations taken. Issue 37.)
+    const Color beta = s.beta;
+    if (!scatter(s, si, bsdf, c.sampler, slots, c.guide, false)) {
+      // A continuation taken that found nothing.
+      if (pendingCount < MaxRecordedVertices) pending[pendingCount++] = {slot, beta, L, rays};
+      return false;
+    }
+    float p = 1;
+    if (!survivesRoulette(s, c.sampler, slots, &p)) return false;
+    if (pendingCount < MaxRecordedVertices) pending[pendingCount++] = {slot, beta / p, L, rays};
+    return true;
   }
   float q = *factor;
   // Caps that keep a wrong cache from multiplying paths without end; any

@@ -22,7 +22,11 @@
 //  good), and q becomes n = ⌊q + u⌋ continuations, each weighted 1/q:
 //  E[n]/q = 1, so the estimator is unbiased for any learned state.
 //  Where the cache knows too little (and at specular vertices, and in the
-//  warm-up passes) classic roulette decides, as `rrs: classic` would.
+//  warm-up passes) classic roulette decides, as `rrs: classic` would; what
+//  it teaches the cache is recorded as a learned q = p would be: only the
+//  continuations it keeps, per unit of the β/p they carry (as the authors
+//  record only continuations taken; recording the killed ones as zeros
+//  keeps the mean but inflates M by 1/p and cuts C by p, q by 1/p).
 //  (The authors' ADRRS leaves a bin whose mean is 0 alone, q = 1; ours
 //  applies the window, x = 0, so the clamp's 0.05.)
 //

@@ -195,14 +195,16 @@ TEST(RouletteSplitting, ImageErrorLeavesOutItsLargestTenPerMillion) {
 // What it records goes to `learner` (same grid), if given.
 class FixedCachePath final : public PixelIntegrator {
  public:
-  FixedCachePath(PathTracerSettings s, ContinuationCache& cache, ContinuationCache* learner = nullptr)
-      : estimator_(s), cache_(cache), learner_(learner ? *learner : cache) {}
+  // learned false: the warm-up, where classic roulette decides everywhere.
+  FixedCachePath(PathTracerSettings s, ContinuationCache& cache, ContinuationCache* learner = nullptr,
+                 bool learned = true)
+      : estimator_(s), cache_(cache), learner_(learner ? *learner : cache), learned_(learned) {}
   std::string splitRefusal() const override { return ""; }
 
  protected:
   Color Li(const Ray&, const Scene&, Sampler&, uint64_t&) const override { return Color(0.f); }
   Color pixelLi(int, int, const Ray& ray, const Scene& scene, Sampler& sampler, uint64_t& rays) const override {
-    RrsView view{&cache_, learner_.threadSums(), estimator_.settings().rrs, true, Color(1.f), 1.f};
+    RrsView view{&cache_, learner_.threadSums(), estimator_.settings().rrs, learned_, Color(1.f), 1.f};
     return estimator_.Li(ray, scene, sampler, rays, nullptr, &view);
   }
 
@@ -210,6 +212,7 @@ class FixedCachePath final : public PixelIntegrator {
   PathEstimator estimator_;
   ContinuationCache& cache_;
   ContinuationCache& learner_;
+  bool learned_;
 };
 
 // Even slots: mean 10⁴ with variance 10⁸ (both rules split 20-fold), or
@@ -363,6 +366,38 @@ TEST(RouletteSplitting, ContinuationsRecordWhatTheyBringBackAndCost) {
   EXPECT_NEAR(all.cost, (21.0 + 20.0) / 21, 1e-5);
   // The image, meanwhile, is the furnace's 1 + a + a² exactly.
   EXPECT_NEAR(film.image().pixels[17].g, 1.75f, 1e-5f);
+}
+
+// Where classic roulette decides (the warm-up, and cells the cache knows
+// nothing of), a continuation it kills is not recorded, and one it keeps is
+// recorded per unit of the β/p it carries, as a learned q = p would be
+// (iRath96/ears records only the continuations taken). The furnace (albedo
+// 0.5, emission 1), one bounce: roulette at the first vertex keeps the path
+// with p = 0.5 and the continuation brings back exactly a · Le, so every
+// record is 0.5 at a cost of 1 ray, and about half the paths record. Seen
+// failing with the killed ones recorded as zeros and the kept ones per unit
+// of β (second moment 0.5, cost 0.5): the mean was right, but EARS's factor
+// came out 1/p too large wherever classic roulette had taught the cache.
+TEST(RouletteSplitting, ClassicRouletteRecordsOnlyTheContinuationsItKeeps) {
+  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
+  ContinuationCache unused = wrongCache(*sf.scene, true);
+  ContinuationCache learner(sf.scene->bounds(), 4, 1);
+  Params p(YAML::Load("{rrs: ears, nee: false, rr: true, rr_depth: 1, max_depth: 2}"), "<test>", "integrator");
+  FixedCachePath integrator(PathTracerSettings::read(p), unused, &learner, false);
+  Film film(sf.scene->camera.width(), sf.scene->camera.height());
+  RenderOptions options;
+  options.seed = 5;
+  options.budget.spp = 4;
+  renderLoop(*sf.scene, integrator, film, sf.sampler, options);
+  learner.update();
+  int64_t count = 0;
+  ContinuationStats all = learner.overall(&count);
+  EXPECT_NEAR(all.mean.g, 0.5, 1e-6);
+  EXPECT_NEAR(all.secondMoment.g, 0.25, 1e-6);
+  EXPECT_NEAR(all.cost, 1.0, 1e-9);
+  // Binomial(samples, 1/2): within 5 standard deviations.
+  const double samples = double(film.width() * film.height()) * 4;
+  EXPECT_NEAR(double(count), samples / 2, 5 * std::sqrt(samples / 4));
 }
 
 // The cache and the pixel estimates learn between passes, from exact sums
