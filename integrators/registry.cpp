@@ -1,6 +1,7 @@
 #include "integrators/registry.h"
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/direct/direct_lighting.h"
+#include "integrators/direct_optimal/direct_optimal.h"
 #include "integrators/guided/guided.h"
 #include "integrators/irradiance_cache/irradiance_cache_integrator.h"
 #include "integrators/light/light_tracer.h"
@@ -45,6 +46,9 @@ const std::vector<IntegratorEntry>& integratorRegistry() {
        [](Params& p) { return std::make_unique<IrradianceCacheIntegrator>(IrradianceCacheSettings::read(p)); }, never},
       {"direct", "direct lighting: emitters seen and reflected once, light and BSDF samples with MIS (the worked example)",
        [](Params& p) { return std::make_unique<DirectLighting>(DirectLightingSettings::read(p)); }, always},
+      {"direct_optimal", "direct lighting with optimal MIS (Kondapaneni et al. 2019): per-pixel coefficients solved "
+                         "from the pixel's earlier samples, unbiased",
+       [](Params& p) { return std::make_unique<DirectOptimal>(DirectOptimalSettings::read(p)); }, always},
       {"vcm", "vertex connection and merging (modes vcm, bpm, ppm, bpt): BDPT's connections and photon merging under one MIS",
        [](Params& p) { return std::make_unique<Vcm>(VcmSettings::read(p)); },
        [](const YAML::Node& p) {
