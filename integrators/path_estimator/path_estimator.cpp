@@ -419,7 +419,6 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
 
 bool PathEstimator::scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler,
                          uint32_t slots, const DirectionGuide* guide, bool roulette) const {
-  const int segments = next.vertex + 1;
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !bsdf.isDelta();
   sampler.setDimension(slots + settings_.scatterSlot());
   float uLobe = sampler.get1D();
