@@ -1,5 +1,6 @@
 #include "integrators/bdpt/bdpt.h"
 #include "integrators/bidirectional/all_strategies.h"
+#include <algorithm>
 #include <filesystem>
 #include "integrators/pixel_tiles.h"
 
@@ -8,16 +9,32 @@ namespace lb {
 BdptSettings BdptSettings::read(Params& p) {
   BdptSettings s;
   s.length = PathLength::read(p);
-  std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform"},
-                                "MIS heuristic over the (s,t) strategies (Veach 1997, 10.2)");
+  std::string mis = p.getChoice("mis", "power", {"power", "balance", "uniform", "variance_aware"},
+                                "MIS heuristic over the (s,t) strategies (Veach 1997, 10.2); variance_aware: the "
+                                "balance heuristic scaled by each strategy's learned second moment over variance "
+                                "(Grittmann et al. 2019)");
   using bidir::MisWeighting;
-  s.mis = mis == "power" ? MisWeighting::Power : mis == "balance" ? MisWeighting::Balance : MisWeighting::Uniform;
+  s.mis = mis == "power" ? MisWeighting::Power : mis == "uniform" ? MisWeighting::Uniform : MisWeighting::Balance;
+  s.varianceAware = mis == "variance_aware";
+  if (s.varianceAware || p.describing()) {
+    p.setCondition("mis: variance_aware");
+    s.pilotPasses = p.getInt("pilot_passes", 1,
+                             {"first passes, weighted by the balance heuristic, whose samples estimate each "
+                              "strategy's moments (kept in the image)",
+                              Range::between(1, 64)});
+    s.factorBlock = std::stoi(p.getChoice("factor_block", "8", {"1", "2", "4", "8", "16"},
+                                          "pixels per side of the square blocks over which the moments are pooled"));
+    p.setCondition("");
+  }
   s.strategyImages = p.getInt("strategy_images", 0,
                               {"each strategy's weighted and unweighted image, up to this path length in segments, "
                                "as layers of the EXR; 0: none",
                                Range::between(0, 8)});
   s.regularization = RegularizationSettings::read(p);
   p.checkUnused();
+  if (s.varianceAware && s.regularization.enabled)
+    p.fail("mis", "variance_aware learns per-strategy moments of fixed passes; regularize changes the integrand "
+                  "pass by pass");
   return s;
 }
 
@@ -55,6 +72,13 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   for (size_t i = 0; i < strategies_.size(); ++i)
     strategyPass.emplace_back(W, H, filter), strategyPassRaw.emplace_back(W, H, filter);
 
+  // mis: variance_aware: learning (pilot passes) or weighting by the factors.
+  if (settings_.varianceAware && !factors_)
+    factors_ = std::make_unique<bidir::StrategyFactors>(W, H, settings_.factorBlock);
+  bidir::StrategyFactors* learning = factors_ && !factors_->finished() ? factors_.get() : nullptr;
+  const bidir::StrategyFactors* weighting = factors_ && factors_->finished() ? factors_.get() : nullptr;
+  std::vector<std::vector<LightTracingRecord>> lightTracing(learning ? size_t(tileCount(W, H)) : 0);
+
   std::vector<std::vector<Splat>> splats(size_t(tileCount(W, H)));
   std::vector<std::vector<StrategySplat>> strategySplats(size_t(tileCount(W, H)));
   PassImage image(W, H, filter);
@@ -67,7 +91,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
     Camera::FilmSample at = scene.camera.sampleFilm(x, y, sampler.get2D());
     Color L(0.f);
     bidir::sampleAllStrategies(
-        scene, {sampler, sampler, sampler, true, regularization_.get()}, settings_.length, settings_.mis, at.raster, buffers, rays,
+        scene, {sampler, sampler, sampler, true, regularization_.get(), weighting}, settings_.length, settings_.mis, at.raster, buffers, rays,
         [&](int s, int t, const bidir::Connection& c) {
           // A t = 1 strategy is splatted through the filter; the others
           // belong to pixel (x, y) with the camera sample's filter weight.
@@ -78,6 +102,10 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
           }
           if (t == 1) splats[size_t(tile)].push_back({c.raster, weighted});
           else L += weighted;
+          if (learning) {  // this pass's unweighted estimate of strategy (s, t) for the pixel
+            if (t == 1) lightTracing[size_t(tile)].push_back({c.raster, s, double(luminance(c.L))});
+            else learning->record(x, y, s, t, double(luminance(c.L * at.weight)));  // (x, y)'s block is this tile's
+          }
           int k = strategies_.empty() ? -1 : strategyIndex(s, t);
           if (k >= 0) {
             Vec2 where = t == 1 ? c.raster : Vec2(x, y);
@@ -89,6 +117,7 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
   for (const auto& tileSplats : splats)  // fixed order: deterministic sums
     for (const Splat& s : tileSplats) image.splat(s.raster, s.value, pass, film);
   film.addPass(image);
+  if (learning) learnFromLightTracing(lightTracing);
   if (!strategies_.empty()) {
     for (const auto& tileSplats : strategySplats)
       for (const StrategySplat& s : tileSplats) {
@@ -103,6 +132,24 @@ void Bdpt::renderPass(const Scene& scene, Film& film, const Sampler& prototype, 
       }
     for (size_t i = 0; i < strategies_.size(); ++i) weighted_[i]->addPass(strategyPass[i]), unweighted_[i]->addPass(strategyPassRaw[i]);
   }
+}
+
+void Bdpt::learnFromLightTracing(const std::vector<std::vector<LightTracingRecord>>& records) {
+  const int W = factors_->width(), H = factors_->height(), slots = bidir::StrategyFactors::MaxSegments + 1;
+  std::vector<double> sums(size_t(W) * size_t(H) * size_t(slots), 0.0);
+  for (const auto& tileRecords : records)  // fixed order: deterministic sums
+    for (const LightTracingRecord& r : tileRecords) {
+      if (r.s >= slots) continue;
+      int x = std::clamp(int(r.raster.x), 0, W - 1), y = std::clamp(int(r.raster.y), 0, H - 1);
+      sums[(size_t(y) * size_t(W) + size_t(x)) * size_t(slots) + size_t(r.s)] += r.value;
+    }
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      for (int s = 2; s < slots; ++s) {
+        double v = sums[(size_t(y) * size_t(W) + size_t(x)) * size_t(slots) + size_t(s)];
+        if (v != 0) factors_->record(x, y, s, 1, v);
+      }
+  if (++pilotPassesDone_ >= settings_.pilotPasses) factors_->finish(pilotPassesDone_);
 }
 
 // Layers "s2_t1" (MIS-weighted) and "s2_t1_unweighted" of the main EXR: the

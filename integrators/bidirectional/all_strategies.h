@@ -11,7 +11,9 @@
 #include "core/sampler.h"
 #include "integrators/bidirectional/connect.h"
 #include "integrators/bidirectional/cost_split.h"
+#include "integrators/bidirectional/strategy_factors.h"
 #include "integrators/bidirectional/subpaths.h"
+#include "integrators/bidirectional/verification.h"
 #include "integrators/path_length.h"
 
 namespace lb::bidir {
@@ -25,6 +27,10 @@ struct SampleStreams {
   bool fixedDimensions = false;
   // regularize: this pass's rough twins (core/bsdfs/regularization.h), or null.
   const Regularization* regularization = nullptr;
+  // mis: variance_aware: the learned factors (finished), or null. With them
+  // a path of up to StrategyFactors::MaxSegments segments is weighted by the
+  // walk over c·p (strategy_factors.h); `mis` must then be the balance heuristic.
+  const StrategyFactors* factors = nullptr;
 };
 
 // BDPT's dimensions in one sampler, so that Sobol', ZSobol and Halton
@@ -82,6 +88,17 @@ void sampleAllStrategies(const Scene& scene, const SampleStreams& streams, const
       if (fixed && s == 1) streams.connection.setDimension(BdptDimensions::nee(t - 1));
       Connection c = connect(scene, streams.connection, mis, buffers.light, buffers.camera, s, t, rays);
       if (isBlack(c.L) || c.weight == 0) continue;
+      if (streams.factors && streams.factors->covers(s, t) && s + t > 2) {
+        PhaseScope weights(Phase::Weights);
+        Vec2 where = t == 1 ? c.raster : raster;  // the pixel the path lands in, whichever strategy made it
+        std::function<double(int, int)> factor = [&](int sOther, int tOther) {
+          return streams.factors->factor(where, sOther, tOther);
+        };
+        c.weight = techniqueWeightsByWalk(scene, mis, Techniques{}, buffers.light, buffers.camera, c.sampled, s, t,
+                                          nullptr, &factor)
+                       .connection;
+        if (c.weight == 0) continue;
+      }
       onStrategy(s, t, c);
     }
 }

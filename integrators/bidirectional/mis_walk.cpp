@@ -65,7 +65,7 @@ double heuristicTerm(MisWeighting h, double r) {
 // non-delta surface vertex that is neither the light's nor the camera's own.
 TechniqueWeights techniqueWeightsByWalk(const Scene& scene, MisWeighting h, const Techniques& allowed,
                                   std::vector<Vertex>& light, std::vector<Vertex>& camera, const Vertex& sampled, int s,
-                                  int t, const Vertex* merged) {
+                                  int t, const Vertex* merged, const std::function<double(int, int)>* factor) {
   // One segment (the camera sees a light): no other technique (BDPT skips
   // s = t = 1, and nothing lies between the two to merge).
   if (s + t == 2) return {1.f, 0.f};
@@ -109,6 +109,7 @@ TechniqueWeights techniqueWeightsByWalk(const Scene& scene, MisWeighting h, cons
     int tOther = s + t - sOther;
     if (sOther == 1) r *= neeOverEmit;
     else if (sOther >= 2 && tOther >= 2) r *= allowed.connectionCount;
+    if (factor) r *= (*factor)(sOther, tOther);
     return heuristicTerm(h, r);
   };
   auto merge = [&](double r, const Vertex& v) {

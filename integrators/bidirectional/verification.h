@@ -2,6 +2,7 @@
 // Verification routines for the bidirectional bookkeeping (testing.md §4; the idea of
 // Mitsuba 0.6's Path::verify): recompute every density from the BSDFs, lights
 // and camera, and evaluate all strategies' MIS weights for a complete path.
+#include <functional>
 #include <vector>
 #include "integrators/bidirectional/connect.h"
 
@@ -28,8 +29,12 @@ std::vector<float> strategyWeights(const Scene& scene, MisWeighting h, const std
 // (O(s + t); pbrt-v3 §16.3.4 with merges), from the stored densities alone.
 // Temporarily edits the connection vertices and restores them. Tests check
 // the O(1) techniqueWeights against it and against the from-definition oracle.
+// `factor`, if given, multiplies each connection strategy (s', t')'s density
+// by factor(s', t') (variance-aware MIS, strategy_factors.h, which is why
+// `bdpt` with mis: variance_aware weighs by this walk).
 TechniqueWeights techniqueWeightsByWalk(const Scene& scene, MisWeighting heuristic, const Techniques& allowed,
                                         std::vector<Vertex>& light, std::vector<Vertex>& camera,
-                                        const Vertex& sampled, int s, int t, const Vertex* merged = nullptr);
+                                        const Vertex& sampled, int s, int t, const Vertex* merged = nullptr,
+                                        const std::function<double(int, int)>* factor = nullptr);
 
 }  // namespace lb::bidir

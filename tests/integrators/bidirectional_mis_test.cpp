@@ -8,6 +8,7 @@
 // the camera strategy ~96 % of a glass caustic that light tracing samples
 // ~100× better.
 #include <gtest/gtest.h>
+#include <functional>
 #include <algorithm>
 #include "core/sampler.h"
 #include "integrators/bdpt/bdpt.h"
@@ -132,7 +133,11 @@ struct Stats {
 // `connectionCount`: the light-vertex-cache BDPT's expected draws per
 // connection with s, t >= 2 (mis.h, Techniques::connectionCount); the
 // definition multiplies those strategies' densities by it.
-void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st, double connectionCount = 1) {
+// `factor`: variance-aware MIS's per-strategy factors (strategy_factors.h):
+// the definition multiplies strategy (s', t')'s density by factor(s', t'),
+// and only the walk, which takes them, is compared.
+void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st, double connectionCount = 1,
+                    const std::function<double(int, int)>* factor = nullptr) {
   const Scene& scene = *c.scene.scene;
   BdptSettings settings;
   settings.length.maxDepth = 8;
@@ -162,8 +167,15 @@ void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st, 
         else for (int k = s - 1; k >= 0; --k) path.push_back(light[size_t(k)]);
         std::vector<double> pdfs = strategyPdfsFromDefinition(scene, path);
         for (size_t sOther = 2; sOther + 2 <= path.size(); ++sOther) pdfs[sOther] *= connectionCount;  // t' >= 2
+        if (factor)
+          for (size_t sOther = 0; sOther < pdfs.size(); ++sOther)
+            pdfs[sOther] *= (*factor)(int(sOther), int(path.size() - sOther));
         std::vector<double> w = weightsFromPdfs(pdfs, h);
-        double err = std::abs(double(con.weight) - w[size_t(s)]), allowed = allowance(path, h);
+        double weight = factor ? bidir::techniqueWeightsByWalk(scene, h, techniques, light, camera, con.sampled, s, t,
+                                                               nullptr, factor)
+                                     .connection
+                               : con.weight;
+        double err = std::abs(double(weight) - w[size_t(s)]), allowed = allowance(path, h);
         if (allowed < 0) {
           ++st.grazing;
           continue;
@@ -173,7 +185,8 @@ void compareOnScene(const Case& c, MisWeighting h, uint64_t samples, Stats& st, 
         st.longest = std::max(st.longest, s + t - 1);
         for (const Vertex& v : path) st.withSpecular += v.delta ? 1 : 0;
         ASSERT_LE(err, allowed) << c.name << ": strategy (" << s << ", " << t << ") of a path of " << s + t - 1
-                                << " segments, weight " << con.weight << ", from the definition " << w[size_t(s)];
+                                << " segments, weight " << weight << ", from the definition " << w[size_t(s)];
+        if (factor) continue;
         // The O(s + t) walk the partial sums replaced (verification.h), kept as a debugging aid.
         float walk = bidir::techniqueWeightsByWalk(scene, h, techniques, light, camera, con.sampled, s, t).connection;
         ASSERT_LE(std::abs(double(walk) - w[size_t(s)]), allowed)
@@ -224,6 +237,21 @@ TEST(LvcMis, WeightsEqualTheHeuristicOfIndependentlyComputedDensities) {
         EXPECT_GT(st.compared, 150) << c.name;
         EXPECT_LT(st.grazing, st.compared / 20 + 1) << c.name;
       }
+}
+
+// Variance-aware MIS for BDPT (bdpt mis: variance_aware) weighs by the walk
+// with a factor per strategy (s', t'): against the definition with each
+// strategy's density scaled by its factor, factors from 0.01 to 100 that
+// differ between every two strategies of a path (equal ones would cancel).
+TEST(BdptVarianceAwareMis, WalkWithFactorsEqualsTheBalanceHeuristicOfScaledDensities) {
+  std::function<double(int, int)> factor = [](int s, int t) { return std::exp(4.6 * std::sin(7.1 * s + 3.3 * t)); };
+  for (const Case& c : cases()) {
+    Stats st;
+    compareOnScene(c, MisWeighting::Balance, 300, st, 1, &factor);
+    if (HasFatalFailure()) return;
+    EXPECT_GT(st.compared, 150) << c.name;
+    EXPECT_LT(st.grazing, st.compared / 20 + 1) << c.name;
+  }
 }
 
 // The same check for vertex connection and merging's weights (issue 13):

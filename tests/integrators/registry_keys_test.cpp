@@ -250,7 +250,7 @@ TEST(IntegratorKeys, PropertyListsFollowTheInterface) {
   // choice and bool keys, in both directions.
   // (Containment, not the whole list: a new integrator must not need this test edited.)
   std::string splits = integratorsWith("splits");
-  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt` (not with `regularize: true`), ",
+  for (const char* item : {"`path` (not with `regularize: true`), ", "`bdpt` (not with `mis: variance_aware` or `regularize: true`), ",
                            "`vcm` with `mode: bpt` or `mode: lvc` (not with `regularize: true`)"})
     EXPECT_NE(splits.find(item), std::string::npos) << item << " in " << splits;
   // A setting that takes the property away from every exception is named
