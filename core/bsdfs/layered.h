@@ -52,6 +52,7 @@ class Layered final : public LobeTexturedMaterial {
                                            const Color& texture) const override;
   float pdf(const Vec3& wo, const Vec3& wi) const override;
   uint32_t flags() const override;
+  bool exactDensity() const override { return false; }  // pdf() is an estimate
 
   // The estimate of f alone (eval() adds both pdfs): the tests average it.
   Color f(Vec3 wo, Vec3 wi, TransportMode mode, const Color& texture) const;

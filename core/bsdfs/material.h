@@ -79,6 +79,12 @@ class Material {
     return s;
   }
 
+  // Whether pdf() (and the pdf sample() reports) is the true density of
+  // sample()'s directions. Layered materials estimate it (layered.h): MIS
+  // weights that only need to sum to 1 do not mind, an estimator that
+  // integrates the density itself (optimal MIS's control variates) does.
+  virtual bool exactDensity() const { return true; }
+
   // Relative IOR crossed when transmitting from wo's side (1 for opaque materials).
   virtual float relativeEta(const Vec3& /*wo*/) const { return 1.f; }
 

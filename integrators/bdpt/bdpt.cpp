@@ -2,6 +2,7 @@
 #include "integrators/bidirectional/all_strategies.h"
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include "integrators/pixel_tiles.h"
 
 namespace lb {
@@ -47,6 +48,16 @@ struct StrategySplat {
 
 Bdpt::Bdpt(BdptSettings s) : settings_(s) {
   if (s.regularization.enabled) regularization_ = std::make_unique<Regularization>(s.regularization);
+}
+
+void Bdpt::preprocess(const Scene&, const Sampler& prototype) {
+  // Learned factors are a function of the earlier passes' numbers; a pass is
+  // unbiased under them only if its own numbers are independent of theirs,
+  // which a low-discrepancy sequence's are not (as for path's).
+  if (settings_.varianceAware && !dynamic_cast<const IndependentSampler*>(&prototype))
+    throw std::invalid_argument(
+        "bdpt, mis: variance_aware: each pass uses the factors learned from the first passes, so their random "
+        "numbers must be independent: use sampler type independent");
 }
 
 int Bdpt::strategyIndex(int s, int t) const {

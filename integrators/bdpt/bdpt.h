@@ -52,6 +52,7 @@ class Bdpt final : public Integrator {
     return settings_.regularization.enabled ? "regularize: its roughness follows the passes' count" : "";
   }
   explicit Bdpt(BdptSettings s);
+  void preprocess(const Scene& scene, const Sampler& prototype) override;
   void renderPass(const Scene& scene, Film& film, const Sampler& prototype, uint64_t pass, PassStats& stats) override;
   std::vector<ExrLayer> extraLayers() const override;
   // Per-strategy film (after a render with strategy_images > 0), or null.

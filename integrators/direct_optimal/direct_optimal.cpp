@@ -1,5 +1,6 @@
 #include "integrators/direct_optimal/direct_optimal.h"
 #include "core/bsdfs/bsdf.h"
+#include <stdexcept>
 
 namespace lb {
 
@@ -16,7 +17,14 @@ DirectOptimalSettings DirectOptimalSettings::read(Params& p) {
   return s;
 }
 
-void DirectOptimal::preprocess(const Scene& scene, const Sampler&) {
+void DirectOptimal::preprocess(const Scene& scene, const Sampler& prototype) {
+  // α is a function of the pixel's earlier numbers; a sample is unbiased
+  // under it only if its own numbers are independent of those, which a
+  // low-discrepancy sequence's are not (as for path's learned states).
+  if (settings_.optimal && !dynamic_cast<const IndependentSampler*>(&prototype))
+    throw std::invalid_argument(
+        "direct_optimal, mis: optimal: each sample uses the coefficients learned from the pixel's earlier samples, "
+        "so their random numbers must be independent: use sampler type independent");
   width_ = scene.camera.width();
   sums_.assign(size_t(width_) * scene.camera.height(), OptimalMisSums{});
 }
@@ -49,8 +57,12 @@ Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, S
   const LightSampler& lights = scene.lightSampler();
   OptimalMisSums& sums = sums_[size_t(y) * width_ + x];
   OmisAlpha alpha{glm::dvec3(0), glm::dvec3(0)};
-  if (settings_.optimal && sums.rounds() >= uint64_t(settings_.pilotPasses)) alpha = sums.solve();
-  sums.countRound();
+  // A material whose pdf is an estimate (layered) keeps α = 0 and records
+  // nothing: the balance heuristic's weights only need to sum to 1, the
+  // control variates need the true density.
+  bool exact = bsdf.material().exactDensity();
+  if (settings_.optimal && exact && sums.rounds() >= uint64_t(settings_.pilotPasses)) alpha = sums.solve();
+  if (exact) sums.countRound();
 
   OmisSample samples[OmisTechniques];
   int count = 0;
@@ -76,8 +88,21 @@ Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, S
         if (visible) L += f / pmf;  // a point or directional light: its own technique alone
       } else {
         produced[0] = true;
+        float pLight = pmf * ls->pdf;
+        if (light->isInfinite()) {
+          // A direction at infinity belongs to every infinite light: the
+          // integrand and the light technique's density there are the sums
+          // over them, as for a BSDF sample that escapes (below).
+          f = Color(0.f);
+          pLight = 0;
+          for (const Light* env : scene.infiniteLights()) {
+            Color Le = env->Le(ls->wi);
+            f += e.f * absDot(ls->wi, bsdf.shadingNormal()) * Le;
+            pLight += lightTechniquePdf(lights, env, Le, env->pdfLi(si.p, ls->wi, {}, {}));
+          }
+        }
         // Occluded: the BSDF technique would have stopped at the occluder.
-        samples[count++] = OmisSample{visible ? f : Color(0.f), {pmf * ls->pdf, visible ? e.pdf : 0.f}};
+        samples[count++] = OmisSample{visible ? f : Color(0.f), {pLight, visible ? e.pdf : 0.f}};
       }
     }
   }
@@ -111,7 +136,8 @@ Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, S
   }
 
   glm::dvec3 F = optimalMisEstimate(alpha, samples, count, produced);
-  for (int j = 0; j < count; ++j) sums.record(samples[j]);
+  if (exact)
+    for (int j = 0; j < count; ++j) sums.record(samples[j]);
   return L + Color(F);
 }
 

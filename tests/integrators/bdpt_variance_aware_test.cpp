@@ -104,6 +104,10 @@ TEST(BdptVarianceAwareMis, RefusesWhatItCannotLearn) {
   EXPECT_THROW(renderScene(scene, {"bdpt", "{mis: variance_aware, regularize: true}", 1, 1}), ConfigError);
   EXPECT_THROW(renderScene(scene, {"bdpt", "{mis: power, pilot_passes: 2}", 1, 1}), ConfigError);
   EXPECT_THROW(renderScene(scene, {"bdpt", "{mis: variance_aware, factor_block: 3}", 1, 1}), ConfigError);
+  // Learned from earlier passes: their numbers must be independent of later ones.
+  SceneFile sobol = loadShippedScene("cornell-box", 8, 8, "sampler: {type: sobol}");
+  EXPECT_ANY_THROW(renderScene(sobol, {"bdpt", "{mis: variance_aware}", 1, 1}));
+  EXPECT_NO_THROW(renderScene(sobol, {"bdpt", "{mis: balance}", 1, 1}));
 }
 
 }  // namespace

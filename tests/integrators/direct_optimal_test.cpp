@@ -40,6 +40,18 @@ TEST(DirectOptimal, AgreesWithDirectUnderAnEnvironmentMapAndAPointLight) {
   expectAgreesWithDirect(loadShippedScene("point-light", 32, 24), 256, 4);
 }
 
+// Two environment lights (a direction at infinity is both's: a light sample
+// from one must carry the other's radiance and density too) over a coated
+// conductor, whose pdf is an estimate (layered.h: α stays 0 there).
+TEST(DirectOptimal, AgreesWithDirectUnderTwoEnvironmentsAndACoating) {
+  expectAgreesWithDirect(
+      loadShippedScene("env-glossy", 32, 20,
+                       "lights: [{type: environment, file: maps/sky.exr, rotate_y: 40, sampling: importance},\n"
+                       "         {type: environment, radiance: [0.4, 0.3, 0.2]}]\n"
+                       "materials: {copper: {type: coated_conductor, roughness: 0.2}, floor: {type: diffuse, albedo: 0.6}}"),
+      1024, 4);
+}
+
 // A pixel's α depends on its earlier samples, all from the thread that owns
 // its tile: bit-identical at one and two threads, and different from α = 0.
 TEST(DirectOptimal, SameSeedIsBitIdenticalWithOneAndTwoThreads) {
@@ -56,6 +68,9 @@ TEST(DirectOptimal, RefusesWhatCannotLearnPerPixel) {
   SceneFile scene = loadShippedScene("cornell-box", 8, 8);
   EXPECT_THROW(renderScene(scene, {"direct_optimal", "{pilot_passes: -1}", 1, 1}), ConfigError);
   EXPECT_THROW(renderScene(scene, {"direct_optimal", "{mis: power}", 1, 1}), ConfigError);
+  SceneFile sobol = loadShippedScene("cornell-box", 8, 8, "sampler: {type: sobol}");
+  EXPECT_ANY_THROW(renderScene(sobol, {"direct_optimal", "{}", 1, 1}));
+  EXPECT_NO_THROW(renderScene(sobol, {"direct_optimal", "{mis: balance}", 1, 1}));
   RenderSpec adaptive{"direct_optimal", "{}", 4, 1};
   adaptive.adaptive.enabled = true;
   EXPECT_ANY_THROW(renderScene(scene, adaptive));
