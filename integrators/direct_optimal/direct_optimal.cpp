@@ -39,6 +39,23 @@ float lightTechniquePdf(const LightSampler& lights, const Light* light, const Co
   return lights.pmf(light) * pdfLi;
 }
 
+// A direction at infinity belongs to every infinite light: the radiance
+// arriving along `d` and the light technique's density of it are the sums
+// over them (for a light sample from any of them and a BSDF sample that escapes).
+struct AtInfinity {
+  Color Le{0.f};
+  float pLight = 0;
+};
+AtInfinity atInfinity(const Scene& scene, const LightSampler& lights, const Vec3& ref, const Vec3& d) {
+  AtInfinity a;
+  for (const Light* env : scene.infiniteLights()) {
+    Color Le = env->Le(d);
+    a.Le += Le;
+    a.pLight += lightTechniquePdf(lights, env, Le, env->pdfLi(ref, d, {}, {}));
+  }
+  return a;
+}
+
 }  // namespace
 
 Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, Sampler& sampler,
@@ -89,17 +106,10 @@ Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, S
       } else {
         produced[0] = true;
         float pLight = pmf * ls->pdf;
-        if (light->isInfinite()) {
-          // A direction at infinity belongs to every infinite light: the
-          // integrand and the light technique's density there are the sums
-          // over them, as for a BSDF sample that escapes (below).
-          f = Color(0.f);
-          pLight = 0;
-          for (const Light* env : scene.infiniteLights()) {
-            Color Le = env->Le(ls->wi);
-            f += e.f * absDot(ls->wi, bsdf.shadingNormal()) * Le;
-            pLight += lightTechniquePdf(lights, env, Le, env->pdfLi(si.p, ls->wi, {}, {}));
-          }
+        if (light->isInfinite()) {  // every infinite light's, not only this one's
+          AtInfinity a = atInfinity(scene, lights, si.p, ls->wi);
+          f = e.f * absDot(ls->wi, bsdf.shadingNormal()) * a.Le;
+          pLight = a.pLight;
         }
         // Occluded: the BSDF technique would have stopped at the occluder.
         samples[count++] = OmisSample{visible ? f : Color(0.f), {pLight, visible ? e.pdf : 0.f}};
@@ -118,11 +128,8 @@ Color DirectOptimal::pixelLi(int x, int y, const Ray& ray, const Scene& scene, S
     Color Le(0.f);
     float pLight = 0;
     if (!scene.intersect(next, hit)) {
-      for (const Light* env : scene.infiniteLights()) {
-        Color e = env->Le(next.d);
-        Le += e;
-        pLight += lightTechniquePdf(lights, env, e, env->pdfLi(si.p, next.d, {}, {}));
-      }
+      AtInfinity a = atInfinity(scene, lights, si.p, next.d);
+      Le = a.Le, pLight = a.pLight;
     } else if (hit.emitter) {
       Le = hit.emitter->L(hit.ng, hit.wo);
       pLight = lightTechniquePdf(lights, hit.emitter, Le, hit.emitter->pdfLi(si.p, next.d, hit.p, hit.ng));
