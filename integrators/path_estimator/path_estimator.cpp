@@ -119,6 +119,10 @@ PathTracerSettings PathTracerSettings::read(Params& p, bool directionKeys) {
                                {"continuations a cache bin needs before it is used (else its cell's, else classic "
                                 "roulette)",
                                 Range::atLeast(1)});
+    s.rrsSplitLight = p.getBool("rrs_split_light", true,
+                                "the vertex's light samples are split and rouletted with its continuation, as the "
+                                "authors' code does; false: the light samples are taken once, only the continuation "
+                                "is split");
     p.setCondition("");
   }
   // Compensated densities are zero where the map is below its mean: only
@@ -245,6 +249,18 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     const Color before = L;
     int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
     const Color afterEmission = L;
+    const uint64_t raysBeforeShadows = rays;
+    // rrs: the light samples are split (or rouletted) with the continuation,
+    // so the vertex decides before they are traced (path_splitting.cpp).
+    SplitDecision decision;
+    const bool splitLight = c.rrs && settings_.rrsSplitLight;
+    if (c.rrs && bsdf) {
+      decision = decideSplit(s, si, *bsdf, c);
+      if (decision.learned && splitLight) {
+        if (decision.n == 0) n = 0;
+        for (int i = 0; i < n; ++i) shadows[i].contribution /= decision.q;
+      }
+    }
     for (int i = 0; i < n; ++i) {
       if (!shadows[i].tested) {
         ++rays;
@@ -270,7 +286,9 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
       break;
     }
     if (c.rrs) {
-      if (!split(s, si, *bsdf, c, rays, L, observer, pending, pendingCount)) break;
+      if (!split(s, si, *bsdf, c, decision, splitLight ? L - afterEmission : Color(0.f),
+                 splitLight ? rays - raysBeforeShadows : 0, rays, L, observer, pending, pendingCount))
+        break;
     } else if (!scatter(s, si, *bsdf, c.sampler, vertexBase(s, c), c.guide)) {
       break;
     }
@@ -279,7 +297,7 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
   // What each continuation of this line brought back, per unit throughput.
   for (int i = 0; i < pendingCount; ++i) {
     const Continuation& k = pending[i];
-    c.rrs->record(k.slot, perUnitThroughput(L - k.before, k.beta), double(rays - k.rays));
+    c.rrs->record(k.slot, k.direct + perUnitThroughput(L - k.before, k.beta), double(rays - k.rays));
   }
   return L;
 }
@@ -298,10 +316,7 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   auto lightPdf = [&](const Light& light, const Vec3& ref, const Vec3& wi, const Vec3& p, const Vec3& n) {
     return settings_.misCompensation ? light.pdfLiCompensated(ref, wi, p, n) : light.pdfLi(ref, wi, p, n);
   };
-  // Variance-aware MIS: technique t's factor for paths of `length` segments.
-  auto factor = [&](int length, MisTechnique t) {
-    return c.varianceAware ? c.varianceAware->factor(length, t) : 1.f;
-  };
+  auto factor = [&](int length, MisTechnique t) { return techniqueFactor(c, length, t); };
   // A BSDF-sampled segment reaching emission L_e (times β): its unweighted
   // estimate, where it competes with light sampling, is a variance-aware pilot's sample.
   auto recordEmission = [&](const Color& betaLe) {
@@ -362,9 +377,19 @@ int PathEstimator::shadeVertex(PathState& s, bool hit, const SurfaceInteraction&
   // material's rough twin (regularization.h), light samples included.
   const Material* twin = c.regularization && s.pastNonDelta ? c.regularization->twin(si.material) : nullptr;
   const BSDF& bsdf = twin ? bsdfOut.emplace(si, twin) : bsdfOut.emplace(si);
+  bool guided = c.guide && c.guide->prepare(si, bsdf);
+  return lightSamples(s, si, bsdf, c, guided, shadows);
+}
+
+int PathEstimator::lightSamples(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
+                                bool guided, ShadowRequest* shadows) const {
+  const float q = settings_.lightSelectionProbability;
+  const int segments = s.vertex + 1;
+  const uint32_t base = vertexBase(s, c);
+  Sampler& sampler = c.sampler;
+  auto factor = [&](int length, MisTechnique t) { return techniqueFactor(c, length, t); };
   bool delta = bsdf.isDelta();
   bool hemisphere = settings_.sampling != DirectionSampling::Bsdf && !delta;
-  bool guided = c.guide && c.guide->prepare(si, bsdf);
   float bsdfCount = s.vertex == 0 ? float(settings_.firstBounceSamples) : 1.f;
   // The density with which scatter() would have drawn a light sample's direction.
   auto scatterPdf = [&](const DirectLightSample& d) {

@@ -19,6 +19,7 @@
 //   max_depth, rr, rr_depth              path length and roulette (path_length.h)
 //   rrs        classic | adrrs | ears     roulette and splitting: rr's, or learned (roulette_splitting.h)
 //   rrs_warmup, rrs_cells, rrs_min_samples  adrrs | ears: the passes before learned factors, the cache's grid
+//   rrs_split_light                      adrrs | ears: split the vertex's light samples too, or the continuation only
 //   regularize, regularize_roughness, regularize_exponent  path-space regularization (regularization.h)
 //   mnee, mnee_max_chain                 manifold next-event estimation (manifold_nee.cpp)
 //   sms, sms_trials                      specular manifold sampling (manifold_nee.cpp)
@@ -112,6 +113,7 @@ struct PathTracerSettings {
   int rrsWarmup = 4;             // rrs: adrrs | ears: passes of classic roulette before the learned factors
   int rrsCells = 8;              // … the cache's cells along the scene's longest side
   int rrsMinSamples = 64;        // … continuations a cache bin needs before it is used
+  bool rrsSplitLight = true;     // … the light samples are split with the continuation (else taken once)
   bool mnee = false;             // manifold next-event estimation (manifold_nee.cpp)
   SmsMode sms = SmsMode::Off;    // specular manifold sampling (manifold_nee.cpp)
   int smsTrials = 64;            // sms: at most this many seeds per estimate of 1/p (unbiased), or exactly (biased)
@@ -253,6 +255,11 @@ class PathEstimator {
   //    number), the 2-D number places the direction.
   int shadeVertex(PathState& s, bool hit, const SurfaceInteraction& si, const PathContext& c, Color& L,
                   ShadowRequest* shadows, std::optional<BSDF>& bsdf) const;
+  //  lightSamples: shadeVertex's light samples at `si` (after its emission),
+  //    also drawn for each of a split's further continuations (rrs).
+  //    `guided`: c.guide was prepared at `si` and is active.
+  int lightSamples(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c, bool guided,
+                   ShadowRequest* shadows) const;
   bool scatter(PathState& next, const SurfaceInteraction& si, const BSDF& bsdf, Sampler& sampler, uint32_t slots,
                const DirectionGuide* guide = nullptr, bool roulette = true) const;
   // Classic roulette on the direction scatter() just took (its last
@@ -278,22 +285,46 @@ class PathEstimator {
   Color trace(PathState& state, const PathContext& ctx, uint64_t& rays, float* firstHitDistance,
               PathObserver* observer) const;
   float misWeight(float nThis, float pdfThis, float nOther, float pdfOther) const;
+  // Variance-aware MIS: technique t's factor for paths of `length` segments (else 1).
+  static float techniqueFactor(const PathContext& c, int length, MisTechnique t) {
+    return c.varianceAware ? c.varianceAware->factor(length, t) : 1.f;
+  }
   // rrs: a continuation of a line (the single-ray loop's path) waiting for
   // the line to end, when what it brought back is known: L − `before`.
+  // What it brought back, per unit throughput, is `direct` + (L − `before`) / `beta`.
   struct Continuation {
     size_t slot;         // the vertex's in the cache
     Color beta, before;  // the continuation's throughput, L when it began
-    uint64_t rays;       // rays traced when it began
+    Color direct;        // its light samples at the vertex, per unit throughput
+    uint64_t rays;       // rays traced when it began (its light samples' included)
   };
   static constexpr int MaxRecordedVertices = 64;  // later vertices of a line go unrecorded
   static constexpr int MaxNesting = 8;            // splits below this many go unsplit (q ≤ 1)
   static constexpr float MaxSplitProduct = 64;    // a path's factors multiply to at most this
   // n = ⌊q + u⌋ is below this (q ≤ 20, and q + u may round up to 21 in float).
   static constexpr int MaxSplitContinuations = int(MaxSplitFactor) + 2;
-  // Roulette and splitting at `si` (path_splitting.cpp): the other
-  // continuations are traced at once, into L; false if this line ends here.
-  bool split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c, uint64_t& rays,
-             Color& L, PathObserver* observer, Continuation* pending, int& pendingCount) const;
+  // rrs, at a vertex, before its light samples are traced (they are split
+  // with the continuation unless rrs_split_light is false): the learned
+  // factor q and the number n = ⌊q + u⌋ of estimates of its reflected
+  // radiance (light samples and continuation), or classic roulette.
+  struct SplitDecision {
+    size_t slot = 0;       // the vertex's in the cache
+    bool learned = false;  // false: classic roulette decides, after the direction
+    float q = 1, u = 0;
+    int n = 1;
+  };
+  SplitDecision decideSplit(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf,
+                            const PathContext& c) const;
+  // Roulette and splitting at `si` (path_splitting.cpp) as `d` decided, after
+  // the vertex's light samples brought `direct` into L through `shadowRays`
+  // rays (both 0 if they are not split): the other estimates are traced at
+  // once, into L; false if this line ends here.
+  bool split(PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,
+             const SplitDecision& d, const Color& direct, uint64_t shadowRays, uint64_t& rays, Color& L,
+             PathObserver* observer, Continuation* pending, int& pendingCount) const;
+  void traceBranches(int n, float u, float key, const PathState& first, const SurfaceInteraction& si, const BSDF& bsdf,
+                     uint32_t slots, size_t slot, const PathContext& c, uint64_t& rays, Color& L,
+                     PathObserver* observer) const;
   // mnee (manifold_nee.cpp): the manifold connection from `si` as a shadow
   // request (false if there is none), and the chain count after scattering.
   bool manifoldLightSample(const PathState& s, const SurfaceInteraction& si, const BSDF& bsdf, const PathContext& c,

@@ -19,12 +19,14 @@
 //    the whole image. The second moment decides roulette, the variance
 //    splitting: q = R if R ≤ 1; else 1 if S < 1; else S.
 //  Both are clamped to [0.05, 20] (a zero estimate must not end paths for
-//  good), and q becomes n = ⌊q + u⌋ continuations, each weighted 1/q:
+//  good), and q becomes n = ⌊q + u⌋ continuations, each weighted 1/q
+//  (with the vertex's light samples, rrs_split_light; path_splitting.cpp):
 //  E[n]/q = 1, so the estimator is unbiased for any learned state.
 //  Where the cache knows too little (and at specular vertices, and in the
 //  warm-up passes) classic roulette decides, as `rrs: classic` would; what
 //  it teaches the cache is recorded as a learned q = p would be: only the
-//  continuations it keeps, per unit of the β/p they carry (as the authors
+//  continuations it keeps, per unit of the β/p they carry (its light
+//  samples, taken in full, per unit of β) (as the authors
 //  record only continuations taken; recording the killed ones as zeros
 //  keeps the mean but inflates M by 1/p and cuts C by p, q by 1/p).
 //  (The authors' ADRRS leaves a bin whose mean is 0 alone, q = 1; ours
@@ -32,11 +34,12 @@
 //
 // Facts from the authors' code (iRath96/ears, recursive_path.cpp, octtree.h);
 // what we do differently, and why:
-//  * There, a split repeats the vertex's light sample with each continuation;
-//    here the split covers the BSDF-sampled continuation only (the vertex's
-//    light samples are drawn once, before it), the part our classic
-//    roulette decides on.
-//    L̄, M and C are those of the continuation.
+//  * There, a split repeats the vertex's light sample with each continuation,
+//    and L̄, M and C are those of the whole reflected-radiance estimate;
+//    so here, by default. With rrs_split_light false the light samples are
+//    drawn once, before, the split covers the BSDF-sampled continuation
+//    only (the part our classic roulette decides on), and L̄, M and C are
+//    the continuation's. (Which pays depends on the scene: docs/results.md.)
 //  * There, an octree refines where samples fall, with 4 × 4 direction bins
 //    per leaf; here a uniform grid (`rrs_cells` along the scene's longest
 //    side) with the same 4 × 4 bins of the arriving ray's direction, a bin
@@ -57,6 +60,11 @@
 // point integers, whose addition is exact and associative, so the cache after
 // a pass does not depend on which thread traced which tile; the pixel
 // estimates are per pixel. Learning happens between passes only.
+// Speed: a path appends each continuation to its thread's log, and the log
+// is added to the thread's sums a batch at a time. (Added one by one, the
+// sums' scattered 120-byte slots, about 1 MB a thread at 8 cells, cost EARS
+// a fifth of its rays per second on the Cornell box: 2 cells against 8,
+// factors held at 1.)
 #include <algorithm>
 #include <memory>
 #include <vector>
@@ -104,14 +112,17 @@ class ContinuationCache {
   // Cells × bins: slot() is below this.
   size_t slotCount() const { return stats_.size() / (DirectionBins + 1) * DirectionBins; }
 
-  struct Sums;  // one cell and bin's sums (roulette_splitting.cpp)
-  // The calling thread's sums (kept apart until update()).
-  Sums* threadSums();
+  struct Sums;           // one cell and bin's sums (roulette_splitting.cpp)
+  struct ThreadRecords;  // a thread's log of continuations and its sums
+  // Continuations a thread logs before it adds them to its sums.
+  static constexpr size_t RecordBatch = 4096;
+  // The calling thread's records (kept apart until update()).
+  ThreadRecords* threadRecords();
   // The cell and bin of point p for a ray arriving along `arriving`.
   size_t slot(const Vec3& p, const Vec3& arriving) const;
   // One continuation from a slot: its estimate L (per unit throughput) and
-  // the rays it traced, added to `sums`, the calling thread's.
-  void record(Sums* sums, size_t slot, const Color& L, double cost) const;
+  // the rays it traced, logged in `records`, the calling thread's.
+  void record(ThreadRecords* records, size_t slot, const Color& L, double cost) const;
   // Between passes: the threads' sums join the totals, and lookup() sees them.
   void update();
   // The statistics of a slot, or null where too few continuations were recorded.
@@ -163,12 +174,12 @@ class PixelEstimates {
 // the cache it reads and records into, and this sample's pixel.
 struct RrsView {
   const ContinuationCache* cache;
-  ContinuationCache::Sums* sums;  // the thread's, for record()
+  ContinuationCache::ThreadRecords* records;  // the thread's, for record()
   RrsMethod method;
   bool learned;          // warm-up over: the learned factors (before: classic roulette, still recording)
   Color relativeScale;   // 1 / (P + 0.01) for this sample's pixel
   float imageFactor;     // EARS: sqrt(C_img / E_img)
-  void record(size_t slot, const Color& L, double cost) const { cache->record(sums, slot, L, cost); }
+  void record(size_t slot, const Color& L, double cost) const { cache->record(records, slot, L, cost); }
 };
 
 // What an integrator that renders one camera sample per pixel per pass
@@ -181,7 +192,7 @@ class RrsLearning {
       : method_(method), warmup_(warmupPasses), cache_(bounds, cells, minSamples), pixels_(width, height) {}
   // The view for one camera sample of pixel (x, y), on the calling thread.
   RrsView view(int x, int y) {
-    return {&cache_, cache_.threadSums(), method_, pixels_.passes() >= warmup_,
+    return {&cache_, cache_.threadRecords(), method_, pixels_.passes() >= warmup_,
             Color(1.f) / (pixels_.estimate(x, y) + Color(RelativePixelOffset)), pixels_.imageFactor()};
   }
   // That sample's estimate and the rays it traced.
