@@ -35,13 +35,12 @@ class VertexRecorder final : public PathObserver {
       prev.emitted = luminance(emitted / glm::max(prev.beta, Color(1e-30f)));
       if (bsdf) prev.scattered = method_.scatteredValue(si, *bsdf);
     }
-    if (isBlack(added)) return;
-    for (const Link& link : chain_) {
-      GuideVertex& r = records_[link.record];
-      for (int ch = 0; ch < 3; ++ch)
-        if (r.beta[ch] > 0) r.incident[ch] += added[ch] / r.beta[ch];
-    }
+    credit(added);
   }
+
+  // Before the split's continuations are traced, the chain is still the
+  // ancestors of the vertex whose light samples these are.
+  void splitLight(const Color& added) override { credit(added); }
 
   void scattered(const SurfaceInteraction& si, const PathState& s) override {
     while (!chain_.empty() && (chain_.back().nesting > s.nesting ||
@@ -54,6 +53,15 @@ class VertexRecorder final : public PathObserver {
   }
 
  private:
+  // `added` to every record of the chain (each per unit of its throughput).
+  void credit(const Color& added) {
+    if (isBlack(added)) return;
+    for (const Link& link : chain_) {
+      GuideVertex& r = records_[link.record];
+      for (int ch = 0; ch < 3; ++ch)
+        if (r.beta[ch] > 0) r.incident[ch] += added[ch] / r.beta[ch];
+    }
+  }
   struct Link {
     size_t record;  // index into records_
     int nesting, vertex;

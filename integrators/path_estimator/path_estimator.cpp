@@ -247,7 +247,7 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     if (s.vertex == 0 && hit && firstHitDistance) *firstHitDistance = si.t;
     std::optional<BSDF> bsdf;
     const Color before = L;
-    int n = shadeVertex(s, hit, si, c, L, shadows, bsdf);
+    int requests = shadeVertex(s, hit, si, c, L, shadows, bsdf);
     const Color afterEmission = L;
     const uint64_t raysBeforeShadows = rays;
     // rrs: the light samples are split (or rouletted) with the continuation,
@@ -257,11 +257,11 @@ Color PathEstimator::trace(PathState& s, const PathContext& c, uint64_t& rays, f
     if (c.rrs && bsdf) {
       decision = decideSplit(s, si, *bsdf, c);
       if (decision.learned && splitLight) {
-        if (decision.n == 0) n = 0;
-        for (int i = 0; i < n; ++i) shadows[i].contribution /= decision.q;
+        if (decision.n == 0) requests = 0;  // rouletted: nor are its light samples taken
+        for (int i = 0; i < requests; ++i) shadows[i].contribution /= decision.q;
       }
     }
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < requests; ++i) {
       if (!shadows[i].tested) {
         ++rays;
         if (c.scene.occluded(shadows[i].ray)) continue;

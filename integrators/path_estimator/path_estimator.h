@@ -60,10 +60,11 @@
 // the first vertex branches) starts at dimension
 //     entry + (v·M + b)·S,  S = 6 + 4·N,
 // where entry is sampler.dimension() when the path starts (2 for camera
-// paths), and the vertex's slots, in the order they are drawn, are
+// paths), and the vertex's slots are
 //     0 emit-vs-reflect choice   1 one-sample strategy choice
 //     2 + 4i .. 5 + 4i  shadow ray i (light, pick, 2-D point)
-//     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette
+//     2 + 4N lobe   3 + 4N .. 4 + 4N direction   5 + 4N roulette (rrs:
+//                   adrrs | ears, learned: the u of n = ⌊q + u⌋)
 //     6 + 4N        (rrs: adrrs | ears only) the key of the split's other
 //                   continuations, which draw from samplers of their own
 //     then, with mnee, 4 more: its light, pick, and 2-D point; with sms, 5:
@@ -72,7 +73,8 @@
 // branch b draws its own lobe, direction and roulette. So a low-discrepancy
 // sampler gives every vertex the same dimensions on every path. Draws go
 // forward within a path (the independent sampler skips ahead, cheaply; a
-// step back would re-seed it).
+// step back re-seeds it), except where a learned split's u is drawn before
+// the vertex's direction (path_splitting.cpp).
 #include <memory>
 #include <optional>
 #include "core/bsdfs/bsdf.h"
@@ -197,6 +199,10 @@ class PathObserver {
   // `added` all it added to the estimate, the unoccluded light samples too;
   // `bsdf` is null where the path ends.
   virtual void shaded(const SurfaceInteraction& si, const BSDF* bsdf, const Color& emitted, const Color& added) = 0;
+  // rrs_split_light: a split's further continuation took its own light
+  // samples at the vertex last shaded, adding `added` (times β) to the
+  // estimate before any of the split's continuations is traced.
+  virtual void splitLight(const Color& added) = 0;
   // The path scattered at `si` into `s.ray` (`s.beta`, `s.prevPdf`, `s.prevDelta` updated).
   // With first_bounce_samples > 1 the branches are reported depth first, one
   // whole branch after another: an observer that keeps per-path state must

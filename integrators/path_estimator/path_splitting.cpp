@@ -23,6 +23,12 @@ uint64_t bitsOf(float v) {
   std::memcpy(&b, &v, sizeof b);
   return b;
 }
+// `c` with another sampler (a split continuation's own); all else, the
+// rough twins of regularize included, as the line's.
+PathContext withSampler(const PathContext& c, Sampler& sampler) {
+  return {c.scene, sampler, c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs,
+          c.regularization};
+}
 }  // namespace
 
 std::optional<float> PathEstimator::splitFactor(const PathState& s, size_t slot, const BSDF& bsdf,
@@ -88,7 +94,7 @@ void PathEstimator::traceBranches(int n, float u, float key, const PathState& fi
     own[b]->start(hashValues(bitsOf(u), bitsOf(key), bitsOf(si.p.x), bitsOf(si.p.y), bitsOf(si.p.z)), uint64_t(b));
     next[b] = first;
     ++next[b].nesting;
-    PathContext branch{c.scene, *own[b], c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs};
+    PathContext branch = withSampler(c, *own[b]);
     const uint64_t raysBefore = rays;
     direct[b] = Color(0.f);
     const int m = settings_.rrsSplitLight ? lightSamples(next[b], si, bsdf, branch, guided, shadows) : 0;
@@ -100,10 +106,11 @@ void PathEstimator::traceBranches(int n, float u, float key, const PathState& fi
       direct[b] += shadows[i].contribution;
     }
     shadowRays[b] = rays - raysBefore;
+    if (observer && !isBlack(direct[b])) observer->splitLight(direct[b]);
     alive[b] = scatter(next[b], si, bsdf, *own[b], slots, c.guide, false);
   }
   for (int b = 1; b < n; ++b) {
-    PathContext branch{c.scene, *own[b], c.maxDepth, c.firstEmission, c.entryDimension, c.guide, c.varianceAware, c.rrs};
+    PathContext branch = withSampler(c, *own[b]);
     const uint64_t raysBefore = rays;
     Color Lb = direct[b];
     if (alive[b]) {

@@ -78,6 +78,30 @@ TEST(GuidedVertexRecorder, CreditsEachRecordWithItsOwnSubtreeOnly) {
   for (int r = 0; r < 5; ++r) EXPECT_NEAR(records[size_t(r)].emitted, emitted[r], 1e-5f) << "record " << r;
 }
 
+// rrs_split_light: a split's further continuations take light samples at
+// the split's vertex before any of them is traced. That light is part of
+// what the direction into the vertex brought back, so it goes to the
+// vertex's ancestors, not to the branches' records. Seen failing (R0 short
+// by the 0.5) with the recorder ignoring splitLight().
+TEST(GuidedVertexRecorder, ASplitsLightSamplesCreditTheVertexsAncestors) {
+  NoMethod method;
+  std::vector<guiding::GuideVertex> records;
+  guiding::VertexRecorder rec(records, method);
+  const SurfaceInteraction si = surface();
+  rec.shaded(si, nullptr, Color(0.f), Color(1.f));  // camera hit
+  rec.scattered(si, scattering(0, 0, 1));            // R0
+  rec.shaded(si, nullptr, Color(0.f), Color(2.f));  // v1: continuation 0's light samples
+  rec.splitLight(Color(0.5f));                       // continuation 1's, at v1
+  rec.scattered(si, scattering(1, 1, 0.5f));         // R1: continuation 1 at v1
+  rec.shaded(si, nullptr, Color(0.3f), Color(0.3f));
+  rec.scattered(si, scattering(0, 1, 0.5f));         // R2: continuation 0 at v1
+  rec.shaded(si, nullptr, Color(0.f), Color(0.4f));
+  ASSERT_EQ(records.size(), 3u);
+  EXPECT_NEAR(records[0].incident.g, 2 + 0.5f + 0.3f + 0.4f, 1e-5f);
+  EXPECT_NEAR(records[1].incident.g, 0.3f / 0.5f, 1e-5f);
+  EXPECT_NEAR(records[2].incident.g, 0.4f / 0.5f, 1e-5f);
+}
+
 // Without branches the chain is the whole path: every record gets every later term.
 TEST(GuidedVertexRecorder, AnUnbranchedPathCreditsEveryEarlierRecord) {
   NoMethod method;
