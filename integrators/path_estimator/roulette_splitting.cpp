@@ -220,6 +220,15 @@ void PixelEstimates::update() {
   std::sort(order.begin(), order.begin() + long(kept));  // a fixed summation order
   double error = 0, cost = 0;
   for (size_t k = 0; k < kept; ++k) error += passError_[order[k]], cost += passCost_[order[k]];
+  // sqrt(C_img / E_img) over the last half of the passes so far, not the
+  // last pass alone: one pass's E_img is heavy-tailed (on the door, from
+  // about 10 to 700 between passes) and the factors followed its swings.
+  // (The authors take their last iteration's, which doubles in length as
+  // the render goes on.)
+  passSums_.push_back({error, cost});
+  error = cost = 0;
+  for (size_t k = passSums_.size() / 2; k < passSums_.size(); ++k)
+    error += passSums_[k].error, cost += passSums_[k].cost;
   imageFactor_ = error > 0 ? float(std::sqrt(cost / error)) : 0.f;
   // P: the 3 × 3 box mean of the pixels' means.
   for (int y = 0; y < height_; ++y)

@@ -53,8 +53,10 @@
 //  * There, cost is modelled as time per ray; here it is rays (camera, BSDF
 //    and shadow alike, as their two equal constants make it).
 //  * There, iterations double in length and are combined by inverse-variance
-//    weights; here every pass counts equally in the film (an image weighted by
-//    its own variance estimate is biased), and the cache learns after every pass.
+//    weights, and E_img and C_img are the last iteration's; here every pass
+//    counts equally in the film (an image weighted by its own variance
+//    estimate is biased), the cache learns after every pass, and E_img and
+//    C_img are those of the last half of the passes so far.
 //
 // Determinism: the continuations' sums are kept per thread as 128-bit fixed
 // point integers, whose addition is exact and associative, so the cache after
@@ -145,7 +147,8 @@ class ContinuationCache {
 };
 
 // The image the factors are relative to: per pixel, the mean of the passes
-// so far (P, a 3 × 3 box mean), and EARS's image factor from the last pass.
+// so far (P, a 3 × 3 box mean), and EARS's image factor from the last half
+// of the passes.
 class PixelEstimates {
  public:
   PixelEstimates(int width, int height);
@@ -155,9 +158,10 @@ class PixelEstimates {
   void update();
   // P, 0.5 before any pass (as EARS).
   Color estimate(int x, int y) const { return estimates_[index(x, y)]; }
-  // sqrt(C_img / E_img) of the last pass: C_img its rays per sample, E_img
-  // its mean relative squared error avg_c(((L − P) / (P + 0.01))²) with the
-  // largest 10 per million left out; 0 before a pass with error.
+  // sqrt(C_img / E_img) of the last half of the passes so far: C_img their
+  // rays per sample, E_img their mean relative squared error
+  // avg_c(((L − P) / (P + 0.01))²), each pass's largest 10 per million
+  // left out; 0 before a pass with error.
   float imageFactor() const { return imageFactor_; }
   // Passes recorded.
   int passes() const { return passes_; }
@@ -168,6 +172,10 @@ class PixelEstimates {
   std::vector<Color> sums_, estimates_;
   std::vector<float> passError_, passCost_;
   float imageFactor_ = 0;
+  struct PassSums {
+    double error, cost;  // over the pass's kept samples
+  };
+  std::vector<PassSums> passSums_;
 };
 
 // What the path estimator needs for one camera sample (rrs: adrrs | ears):
