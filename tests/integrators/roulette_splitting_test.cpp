@@ -351,6 +351,33 @@ TEST(RouletteSplitting, SplitContinuationsDrawFromTheGuideAtTheirVertex) {
   EXPECT_EQ(checker.mismatches, 0) << "of " << checker.branches + checker.lines << " directions";
 }
 
+// What a render of the furnace (albedo 0.5, emission 1) under `params`
+// teaches a fresh cache (`learned`: the fixed cache's factors, 20-fold
+// splits everywhere; else classic roulette decides, as in the warm-up).
+struct FurnaceRecords {
+  ContinuationStats all;
+  int64_t count = 0;
+  double samples = 0;  // camera samples rendered
+  std::unique_ptr<Film> film;
+};
+FurnaceRecords recordFurnace(const std::string& params, bool learned, uint64_t seed, uint64_t spp) {
+  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
+  ContinuationCache fixed = wrongCache(*sf.scene, true);
+  ContinuationCache learner(sf.scene->bounds(), 4, 1);
+  Params p(YAML::Load(params), "<test>", "integrator");
+  FixedCachePath integrator(PathTracerSettings::read(p), fixed, &learner, learned);
+  FurnaceRecords r;
+  r.film = std::make_unique<Film>(sf.scene->camera.width(), sf.scene->camera.height());
+  RenderOptions options;
+  options.seed = seed;
+  options.budget.spp = spp;
+  renderLoop(*sf.scene, integrator, *r.film, sf.sampler, options);
+  learner.update();
+  r.all = learner.overall(&r.count);
+  r.samples = double(r.film->width() * r.film->height()) * double(spp);
+  return r;
+}
+
 // What a continuation records, where every number is known: in the furnace
 // (emission 1 everywhere, albedo a = 0.5, cosine-sampled so f cos/p = a
 // exactly), without NEE or classic roulette, paths of at most 3 segments,
@@ -360,27 +387,14 @@ TEST(RouletteSplitting, SplitContinuationsDrawFromTheGuideAtTheirVertex) {
 // rays, and v1 records 20 times a = 0.5 at 1 ray each. A continuation
 // recorded before its line ends, or divided by β rather than β/q, is off.
 TEST(RouletteSplitting, ContinuationsRecordWhatTheyBringBackAndCost) {
-  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
-  ContinuationCache fixed = wrongCache(*sf.scene, true);
-  ContinuationCache learner(sf.scene->bounds(), 4, 1);
-  Params p(YAML::Load("{rrs: adrrs, nee: false, rr: false, max_depth: 3}"), "<test>", "integrator");
-  FixedCachePath integrator(PathTracerSettings::read(p), fixed, &learner);
-  Film film(sf.scene->camera.width(), sf.scene->camera.height());
-  RenderOptions options;
-  options.seed = 3;
-  options.budget.spp = 2;
-  renderLoop(*sf.scene, integrator, film, sf.sampler, options);
-  learner.update();
-  int64_t count = 0;
-  ContinuationStats all = learner.overall(&count);
-  const double samples = double(film.width() * film.height()) * 2;
-  EXPECT_EQ(double(count), 21 * samples);
+  FurnaceRecords r = recordFurnace("{rrs: adrrs, nee: false, rr: false, max_depth: 3}", true, 3, 2);
+  EXPECT_EQ(double(r.count), 21 * r.samples);
   // Float rounding of a few products per value: 1e-5 relative is generous.
-  EXPECT_NEAR(all.mean.g, (0.75 + 20 * 0.5) / 21, 1e-5);
-  EXPECT_NEAR(all.secondMoment.g, (0.75 * 0.75 + 20 * 0.25) / 21, 1e-5);
-  EXPECT_NEAR(all.cost, (21.0 + 20.0) / 21, 1e-5);
+  EXPECT_NEAR(r.all.mean.g, (0.75 + 20 * 0.5) / 21, 1e-5);
+  EXPECT_NEAR(r.all.secondMoment.g, (0.75 * 0.75 + 20 * 0.25) / 21, 1e-5);
+  EXPECT_NEAR(r.all.cost, (21.0 + 20.0) / 21, 1e-5);
   // The image, meanwhile, is the furnace's 1 + a + a² exactly.
-  EXPECT_NEAR(film.image().pixels[17].g, 1.75f, 1e-5f);
+  EXPECT_NEAR(r.film->image().pixels[17].g, 1.75f, 1e-5f);
 }
 
 // The same with the light samples split too (rrs_split_light, the default):
@@ -392,26 +406,14 @@ TEST(RouletteSplitting, ContinuationsRecordWhatTheyBringBackAndCost) {
 // continuation 0's light samples counted per unit of β, not β/q (0.5006
 // against 0.5119, 6 standard errors 0.003).
 TEST(RouletteSplitting, SplitLightSamplesAreRecordedWithTheirContinuations) {
-  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
-  ContinuationCache fixed = wrongCache(*sf.scene, true);
-  ContinuationCache learner(sf.scene->bounds(), 4, 1);
-  Params p(YAML::Load("{rrs: adrrs, rr: false, max_depth: 3}"), "<test>", "integrator");
-  FixedCachePath integrator(PathTracerSettings::read(p), fixed, &learner);
-  Film film(sf.scene->camera.width(), sf.scene->camera.height());
-  RenderOptions options;
-  options.seed = 3;
-  options.budget.spp = 4;
-  renderLoop(*sf.scene, integrator, film, sf.sampler, options);
-  learner.update();
-  int64_t count = 0;
-  ContinuationStats all = learner.overall(&count);
-  ASSERT_EQ(double(count), 21 * double(film.width() * film.height()) * 4);
-  const double standardError = std::sqrt(all.variance.g / double(count));
-  EXPECT_NEAR(all.mean.g, (0.75 + 20 * 0.5) / 21, 6 * standardError);
+  FurnaceRecords r = recordFurnace("{rrs: adrrs, rr: false, max_depth: 3}", true, 3, 4);
+  ASSERT_EQ(double(r.count), 21 * r.samples);
+  const double standardError = std::sqrt(r.all.variance.g / double(r.count));
+  EXPECT_NEAR(r.all.mean.g, (0.75 + 20 * 0.5) / 21, 6 * standardError);
   // Every light sample from inside the sphere reaches it: 2 rays a record
   // at v1, 42 at v0.
-  EXPECT_NEAR(all.cost, (42.0 + 20 * 2.0) / 21, 1e-6);
-  EXPECT_EQ(film.nonFiniteCount(), 0u);
+  EXPECT_NEAR(r.all.cost, (42.0 + 20 * 2.0) / 21, 1e-6);
+  EXPECT_EQ(r.film->nonFiniteCount(), 0u);
 }
 
 // Where classic roulette decides (the warm-up, and cells the cache knows
@@ -425,25 +427,12 @@ TEST(RouletteSplitting, SplitLightSamplesAreRecordedWithTheirContinuations) {
 // of β (second moment 0.5, cost 0.5): the mean was right, but EARS's factor
 // came out 1/p too large wherever classic roulette had taught the cache.
 TEST(RouletteSplitting, ClassicRouletteRecordsOnlyTheContinuationsItKeeps) {
-  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
-  ContinuationCache unused = wrongCache(*sf.scene, true);
-  ContinuationCache learner(sf.scene->bounds(), 4, 1);
-  Params p(YAML::Load("{rrs: ears, nee: false, rr: true, rr_depth: 1, max_depth: 2}"), "<test>", "integrator");
-  FixedCachePath integrator(PathTracerSettings::read(p), unused, &learner, false);
-  Film film(sf.scene->camera.width(), sf.scene->camera.height());
-  RenderOptions options;
-  options.seed = 5;
-  options.budget.spp = 4;
-  renderLoop(*sf.scene, integrator, film, sf.sampler, options);
-  learner.update();
-  int64_t count = 0;
-  ContinuationStats all = learner.overall(&count);
-  EXPECT_NEAR(all.mean.g, 0.5, 1e-6);
-  EXPECT_NEAR(all.secondMoment.g, 0.25, 1e-6);
-  EXPECT_NEAR(all.cost, 1.0, 1e-9);
+  FurnaceRecords r = recordFurnace("{rrs: ears, nee: false, rr: true, rr_depth: 1, max_depth: 2}", false, 5, 4);
+  EXPECT_NEAR(r.all.mean.g, 0.5, 1e-6);
+  EXPECT_NEAR(r.all.secondMoment.g, 0.25, 1e-6);
+  EXPECT_NEAR(r.all.cost, 1.0, 1e-9);
   // Binomial(samples, 1/2): within 5 standard deviations.
-  const double samples = double(film.width() * film.height()) * 4;
-  EXPECT_NEAR(double(count), samples / 2, 5 * std::sqrt(samples / 4));
+  EXPECT_NEAR(double(r.count), r.samples / 2, 5 * std::sqrt(r.samples / 4));
 }
 
 // With rrs_split_light (the default) a vertex's record is its whole
@@ -454,30 +443,18 @@ TEST(RouletteSplitting, ClassicRouletteRecordsOnlyTheContinuationsItKeeps) {
 // ray. Classic roulette decides (rr off: every continuation kept). Seen
 // failing with the light samples left out of a split-light record.
 TEST(RouletteSplitting, RecordsHoldTheLightSamplesThatAreSplit) {
-  SceneFile sf = loadSceneFromString(furnaceScene(0.5f), "furnace.yaml");
-  ContinuationCache unused = wrongCache(*sf.scene, true);
   for (bool splitLight : {true, false}) {
-    ContinuationCache learner(sf.scene->bounds(), 4, 1);
     std::string yaml = std::string("{rrs: ears, rr: false, max_depth: 2, rrs_split_light: ") +
                        (splitLight ? "true" : "false") + "}";
-    Params p(YAML::Load(yaml), "<test>", "integrator");
-    FixedCachePath integrator(PathTracerSettings::read(p), unused, &learner, false);
-    Film film(sf.scene->camera.width(), sf.scene->camera.height());
-    RenderOptions options;
-    options.seed = 7;
-    options.budget.spp = 16;
-    renderLoop(*sf.scene, integrator, film, sf.sampler, options);
-    learner.update();
-    int64_t count = 0;
-    ContinuationStats all = learner.overall(&count);
-    ASSERT_EQ(double(count), double(film.width() * film.height()) * 16) << yaml;
-    const double standardError = std::sqrt(all.variance.g / double(count));
+    FurnaceRecords r = recordFurnace(yaml, false, 7, 16);
+    ASSERT_EQ(double(r.count), r.samples) << yaml;
+    const double standardError = std::sqrt(r.all.variance.g / double(r.count));
     if (splitLight) {
-      EXPECT_NEAR(all.mean.g, 0.5, 5 * standardError) << yaml;
-      EXPECT_GT(all.cost, 1.5) << yaml;
+      EXPECT_NEAR(r.all.mean.g, 0.5, 5 * standardError) << yaml;
+      EXPECT_GT(r.all.cost, 1.5) << yaml;
     } else {
-      EXPECT_LT(all.mean.g, 0.5 - 5 * standardError) << yaml;
-      EXPECT_EQ(all.cost, 1.0) << yaml;
+      EXPECT_LT(r.all.mean.g, 0.5 - 5 * standardError) << yaml;
+      EXPECT_EQ(r.all.cost, 1.0) << yaml;
     }
   }
 }
